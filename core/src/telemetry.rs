@@ -1,0 +1,1 @@
+//! Telemetry codec (framing owned by the firmware work).

@@ -1,0 +1,1 @@
+//! X-Cell 60 plant simulator.

@@ -1,0 +1,1 @@
+//! Independent f64 reference of the paper equations.
