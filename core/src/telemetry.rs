@@ -1,1 +1,0 @@
-//! Telemetry codec (framing owned by the firmware work).
