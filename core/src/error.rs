@@ -1,0 +1,194 @@
+//! The one error type of the core.
+//!
+//! Every public fallible call returns [`Error`]. Whenever a call returns `Err`, the object it
+//! was called on is left exactly as it was (bit for bit): inputs are checked completely before
+//! anything is written.
+
+use core::fmt;
+
+/// Which input quantity a rejected value belongs to.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Quantity {
+    /// Roll angle φ (rad).
+    Roll,
+    /// Pitch angle θ (rad).
+    Pitch,
+    /// Yaw angle ψ (rad).
+    Yaw,
+    /// Inertial velocity component `v^s[index]` (m/s, paper axes: x east, y up, z south).
+    Velocity(u8),
+    /// Body rate `ω^b[index]` of `[q r p]` (deg/s).
+    Rate(u8),
+    /// Control `u[index]` of `[u_col u_ped u_lon u_lat]` (normalised, −1…1).
+    Control(u8),
+    /// Sample time stamp (µs).
+    Time,
+    /// Premise variable `x[index]` of a rule base.
+    Premise(u8),
+    /// Regressor entry `ξ[index]`.
+    Regressor(u16),
+    /// Regression target `y` of output `index`.
+    Target(u8),
+    /// Consequent parameter `θ[index]` (import).
+    Parameter(u16),
+    /// Covariance or factor entry `P[index]` (packed, import).
+    Covariance(u16),
+    /// A configuration value (membership centre or spread, α, λ, bounds, sweep settings).
+    Config,
+}
+
+/// Why a configuration was refused.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum ConfigError {
+    /// A membership function has a non-finite centre, or a spread σ that is not finite and > 0.
+    MembershipFunction {
+        /// Premise variable.
+        variable: u8,
+        /// Set within the variable.
+        set: u8,
+    },
+    /// The product of the per-variable set counts is not the rule count `R` of the type.
+    RuleCount {
+        /// Rules the type holds (`R`).
+        expected: u16,
+        /// Rules the sets make.
+        found: u32,
+    },
+    /// A const-generic size is inconsistent (for example `N != R·D`).
+    Dimensions,
+    /// Initial covariance α is not finite and in (0, 1e12].
+    InitialCovariance,
+    /// Forgetting factor λ is not in [0.9, 1], or its trace bound is not finite and > 0.
+    Forgetting,
+    /// A model structure needs `needed` consequent terms per rule, the type holds `found`.
+    ConsequentTerms {
+        /// Terms the structure needs.
+        needed: u8,
+        /// Terms the type provides (`D`).
+        found: u8,
+    },
+    /// Sample period or its tolerance out of range.
+    SamplePeriod,
+    /// Sweep parameters out of range (ω_min ≥ ω_max, T_rec ≤ 0, …).
+    Sweep,
+    /// A regressor scale is not finite and > 0.
+    Scale,
+}
+
+/// The error of every fallible call in the core.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Error {
+    /// A value is NaN or ±∞.
+    NonFinite(Quantity),
+    /// A finite value lies outside the range the estimator accepts (see the quantity's docs).
+    OutOfRange(Quantity),
+    /// The time since the previous sample is outside the accepted window around the nominal
+    /// sample period. Call `resume` to restart the sample chain after a gap.
+    TimeStep {
+        /// Measured interval (µs).
+        dt_us: u64,
+        /// Shortest accepted interval (µs).
+        min_us: u64,
+        /// Longest accepted interval (µs).
+        max_us: u64,
+    },
+    /// The time stamp does not increase.
+    NonMonotonicTime,
+    /// A configuration was refused.
+    Config(ConfigError),
+    /// Imported state does not fit (wrong form or size).
+    Incompatible,
+    /// The update would produce a non-finite number; nothing was changed.
+    Numerical,
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        const RATES: [&str; 3] = ["q", "r", "p"];
+        const CONTROLS: [&str; 4] = ["u_col", "u_ped", "u_lon", "u_lat"];
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        match *self {
+            Quantity::Roll => f.write_str("roll φ (rad)"),
+            Quantity::Pitch => f.write_str("pitch θ (rad)"),
+            Quantity::Yaw => f.write_str("yaw ψ (rad)"),
+            Quantity::Velocity(i) => match AXES.get(usize::from(i)) {
+                Some(a) => write!(f, "velocity v_{a} (m/s)"),
+                None => write!(f, "velocity[{i}] (m/s)"),
+            },
+            Quantity::Rate(i) => match RATES.get(usize::from(i)) {
+                Some(a) => write!(f, "body rate {a} (deg/s)"),
+                None => write!(f, "body rate[{i}] (deg/s)"),
+            },
+            Quantity::Control(i) => match CONTROLS.get(usize::from(i)) {
+                Some(a) => write!(f, "control {a}"),
+                None => write!(f, "control[{i}]"),
+            },
+            Quantity::Time => f.write_str("time stamp (µs)"),
+            Quantity::Premise(i) => write!(f, "premise variable x[{i}]"),
+            Quantity::Regressor(i) => write!(f, "regressor ξ[{i}]"),
+            Quantity::Target(i) => write!(f, "target y[{i}]"),
+            Quantity::Parameter(i) => write!(f, "parameter θ[{i}]"),
+            Quantity::Covariance(i) => write!(f, "covariance entry P[{i}]"),
+            Quantity::Config => f.write_str("configuration value"),
+        }
+    }
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ConfigError::MembershipFunction { variable, set } => write!(
+                f,
+                "membership function {set} of premise variable {variable} needs a finite centre and a finite spread > 0"
+            ),
+            ConfigError::RuleCount { expected, found } => {
+                write!(f, "the sets make {found} rules, the type holds {expected}")
+            }
+            ConfigError::Dimensions => f.write_str("inconsistent const-generic sizes"),
+            ConfigError::InitialCovariance => {
+                f.write_str("initial covariance α must be finite and in (0, 1e12]")
+            }
+            ConfigError::Forgetting => f.write_str(
+                "forgetting factor λ must be in [0.9, 1] and the trace bound finite and > 0",
+            ),
+            ConfigError::ConsequentTerms { needed, found } => write!(
+                f,
+                "the model structure needs {needed} consequent terms per rule, the type holds {found}"
+            ),
+            ConfigError::SamplePeriod => f.write_str("sample period or tolerance out of range"),
+            ConfigError::Sweep => f.write_str("sweep parameters out of range"),
+            ConfigError::Scale => f.write_str("regressor scales must be finite and > 0"),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::NonFinite(q) => write!(f, "{q} is not finite"),
+            Error::OutOfRange(q) => write!(f, "{q} is out of range"),
+            Error::TimeStep { dt_us, min_us, max_us } => write!(
+                f,
+                "sample interval {dt_us} µs outside the accepted {min_us}…{max_us} µs (call resume after a gap)"
+            ),
+            Error::NonMonotonicTime => f.write_str("time stamp does not increase"),
+            Error::Config(c) => write!(f, "invalid configuration: {c}"),
+            Error::Incompatible => f.write_str("imported state does not fit this estimator"),
+            Error::Numerical => f.write_str("update would produce a non-finite value; nothing changed"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+impl From<ConfigError> for Error {
+    fn from(c: ConfigError) -> Self {
+        Error::Config(c)
+    }
+}

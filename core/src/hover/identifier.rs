@@ -1,0 +1,347 @@
+//! The hover identifier: one translational and three angular models fed one sample at a time.
+
+use crate::error::{ConfigError, Error};
+use crate::hover::models::{
+    RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
+};
+use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
+use crate::hover::table3;
+use crate::rls::RlsConfig;
+use crate::rule_base::RuleBase;
+use crate::scalar::Real;
+
+/// Settings shared by the four models of a [`HoverIdentifier`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct HoverConfig<T> {
+    /// Estimator settings of every model.
+    pub rls: RlsConfig<T>,
+    /// Nominal sample period ΔT (µs). The identified parameters are per-step quantities
+    /// (Eqs. 22–25 contain ΔT), so a model is only valid at the rate it was learnt at.
+    pub sample_period_us: u32,
+    /// Accepted deviation of one interval from ΔT (µs), for timing jitter.
+    pub period_tolerance_us: u32,
+}
+
+impl<T: Real> Default for HoverConfig<T> {
+    /// The robust (U-D) RLS with α = 10⁶, 50 Hz (20 000 µs) ± 50 %.
+    fn default() -> Self {
+        Self {
+            rls: RlsConfig::default(),
+            sample_period_us: 20_000,
+            period_tolerance_us: 10_000,
+        }
+    }
+}
+
+impl<T: Real> HoverConfig<T> {
+    /// The paper's settings: covariance-form RLS, λ = 1, α = 10⁶, 50 Hz ± 50 %.
+    pub fn paper() -> Self {
+        Self {
+            rls: RlsConfig::paper(T::lit(1e6)),
+            ..Self::default()
+        }
+    }
+
+    fn validate(&self) -> Result<(), Error> {
+        self.rls.validate()?;
+        if self.sample_period_us == 0 || self.period_tolerance_us >= self.sample_period_us {
+            return Err(ConfigError::SamplePeriod.into());
+        }
+        Ok(())
+    }
+}
+
+/// What one [`HoverIdentifier::step`] reports.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StepOutput<T> {
+    /// One-step prediction of the next sample's state, made with the updated parameters.
+    pub prediction: HoverState<T>,
+    /// Prior innovations `Δy − ξᵀθ(k)` of the update this step made (the error of the
+    /// previous step's prediction, up to rounding); `None` when the step only started a
+    /// sample chain (first sample, or after [`HoverIdentifier::resume`]).
+    pub innovation: Option<HoverState<T>>,
+}
+
+/// Everything a [`HoverIdentifier`] has learnt (warm start across flights).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct HoverSnapshot<V, Q, R, P> {
+    /// Translational model.
+    pub velocity: V,
+    /// q̂ model.
+    pub pitch: Q,
+    /// r̂ model.
+    pub yaw: R,
+    /// p̂ model.
+    pub roll: P,
+}
+
+/// Online identifier of the hover dynamics (paper Section 5): takes one sample per step,
+/// learns all four models from the previous sample to this one, and predicts the next.
+///
+/// `V` is the translational model, `Q`, `R`, `P` the q̂, r̂, p̂ models. The paper's two
+/// configurations are the aliases [`PaperFuzzyIdentifier`] and [`PaperPlainIdentifier`]; since
+/// they share this API, Table 4's comparison is a change of type.
+///
+/// Every call that returns `Err` leaves the identifier exactly as it was.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HoverIdentifier<T, V, Q, R, P> {
+    velocity: V,
+    pitch: Q,
+    yaw: R,
+    roll: P,
+    config: HoverConfig<T>,
+    previous: Option<HoverSample<T>>,
+}
+
+/// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
+/// 54 + 36 + 18 + 18 parameters.
+pub type PaperFuzzyIdentifier<T> = HoverIdentifier<
+    T,
+    VelocityModel<T, 27, 2, 54, 1485>,
+    RateModel<T, 18, 2, 36, 666>,
+    RateModel<T, 9, 2, 18, 171>,
+    RateModel<T, 9, 2, 18, 171>,
+>;
+
+/// The paper's plain-RLS baseline (Eqs. 19 and 26): the same models with a single rule.
+pub type PaperPlainIdentifier<T> = HoverIdentifier<
+    T,
+    VelocityModel<T, 1, 2, 2, 3>,
+    RateModel<T, 1, 2, 2, 3>,
+    RateModel<T, 1, 2, 2, 3>,
+    RateModel<T, 1, 2, 2, 3>,
+>;
+
+impl<T: Real> PaperFuzzyIdentifier<T> {
+    /// The paper's fuzzy identifier: Eqs. 27–30 with Table 3's sets.
+    pub fn paper_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
+        let c = config.rls;
+        Self::new(
+            VelocityModel::new(table3::velocity()?, VelocityStructure::Paper, c)?,
+            RateModel::new(
+                RateAxis::Pitch,
+                table3::pitch_rate()?,
+                RateStructure::Paper,
+                c,
+            )?,
+            RateModel::new(RateAxis::Yaw, table3::yaw_rate()?, RateStructure::Paper, c)?,
+            RateModel::new(
+                RateAxis::Roll,
+                table3::roll_rate()?,
+                RateStructure::Paper,
+                c,
+            )?,
+            config,
+        )
+    }
+}
+
+impl<T: Real> PaperPlainIdentifier<T> {
+    /// The paper's plain-RLS baseline: Eqs. 19 and 26, one rule per model.
+    pub fn paper_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let c = config.rls;
+        Self::new(
+            VelocityModel::new(RuleBase::single_rule()?, VelocityStructure::Paper, c)?,
+            RateModel::new(
+                RateAxis::Pitch,
+                RuleBase::single_rule()?,
+                RateStructure::Paper,
+                c,
+            )?,
+            RateModel::new(
+                RateAxis::Yaw,
+                RuleBase::single_rule()?,
+                RateStructure::Paper,
+                c,
+            )?,
+            RateModel::new(
+                RateAxis::Roll,
+                RuleBase::single_rule()?,
+                RateStructure::Paper,
+                c,
+            )?,
+            config,
+        )
+    }
+}
+
+impl<T, V, Q, R, P> HoverIdentifier<T, V, Q, R, P>
+where
+    T: Real,
+    V: StateModel<T>,
+    Q: StateModel<T>,
+    R: StateModel<T>,
+    P: StateModel<T>,
+{
+    /// An identifier from four models (translational, q̂, r̂, p̂).
+    pub fn new(
+        velocity: V,
+        pitch: Q,
+        yaw: R,
+        roll: P,
+        config: HoverConfig<T>,
+    ) -> Result<Self, Error> {
+        config.validate()?;
+        Ok(Self {
+            velocity,
+            pitch,
+            yaw,
+            roll,
+            config,
+            previous: None,
+        })
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &HoverConfig<T> {
+        &self.config
+    }
+
+    /// The translational model.
+    pub fn velocity_model(&self) -> &V {
+        &self.velocity
+    }
+
+    /// The q̂ model.
+    pub fn pitch_model(&self) -> &Q {
+        &self.pitch
+    }
+
+    /// The r̂ model.
+    pub fn yaw_model(&self) -> &R {
+        &self.yaw
+    }
+
+    /// The p̂ model.
+    pub fn roll_model(&self) -> &P {
+        &self.roll
+    }
+
+    /// The sample the next step will learn from, if any.
+    pub fn previous_sample(&self) -> Option<&HoverSample<T>> {
+        self.previous.as_ref()
+    }
+
+    /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
+    /// state at k+2.
+    ///
+    /// Errors (nothing changes on any of them): a field out of range or not finite
+    /// ([`SampleLimits`]), a time stamp that does not increase, an interval outside
+    /// `sample_period_us ± period_tolerance_us` (after a gap, call [`resume`](Self::resume)),
+    /// or an update beyond the estimator's numeric limits.
+    pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
+        SampleLimits::check(sample)?;
+        let mut innovation = None;
+        if let Some(prev) = self.previous {
+            self.check_interval(&prev, sample)?;
+            // Check all four models before changing any.
+            let v = self.velocity.prepare(&prev, sample)?;
+            let q = self.pitch.prepare(&prev, sample)?;
+            let r = self.yaw.prepare(&prev, sample)?;
+            let p = self.roll.prepare(&prev, sample)?;
+            let mut inn = HoverState::default();
+            self.velocity.apply(&v, &mut inn);
+            self.pitch.apply(&q, &mut inn);
+            self.yaw.apply(&r, &mut inn);
+            self.roll.apply(&p, &mut inn);
+            innovation = Some(inn);
+        }
+        self.previous = Some(*sample);
+        // Cannot fail: the sample passed SampleLimits, which bounds every regressor.
+        let prediction = self.predict(sample)?;
+        Ok(StepOutput {
+            prediction,
+            innovation,
+        })
+    }
+
+    /// One-step prediction of the state after `sample`, with the current parameters; changes
+    /// nothing (use it to verify a frozen model or to simulate it forward).
+    pub fn predict(&self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
+        SampleLimits::check(sample)?;
+        let mut next = HoverState::default();
+        self.velocity.predict(sample, &mut next)?;
+        self.pitch.predict(sample, &mut next)?;
+        self.yaw.predict(sample, &mut next)?;
+        self.roll.predict(sample, &mut next)?;
+        Ok(next)
+    }
+
+    /// Starts a new sample chain at `sample` without learning (after a gap, a time jump, or
+    /// between concatenated manoeuvres). Returns the prediction from it.
+    pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
+        let prediction = self.predict(sample)?;
+        self.previous = Some(*sample);
+        Ok(prediction)
+    }
+
+    /// Forgets everything learnt: θ = 0, P = αI, no previous sample.
+    pub fn reset(&mut self) {
+        self.velocity.reset();
+        self.pitch.reset();
+        self.yaw.reset();
+        self.roll.reset();
+        self.previous = None;
+    }
+
+    /// Everything learnt, for a warm start on the next flight.
+    pub fn export(&self) -> HoverSnapshot<V::State, Q::State, R::State, P::State> {
+        HoverSnapshot {
+            velocity: self.velocity.export(),
+            pitch: self.pitch.export(),
+            yaw: self.yaw.export(),
+            roll: self.roll.export(),
+        }
+    }
+
+    /// Warm start from an exported snapshot. The sample chain restarts (the next step only
+    /// anchors). On `Err` nothing changed.
+    pub fn import(
+        &mut self,
+        snapshot: &HoverSnapshot<V::State, Q::State, R::State, P::State>,
+    ) -> Result<(), Error> {
+        // Import into copies' worth of checks first: each import checks before writing, so
+        // import in an order where a later failure can be undone by re-importing the old state.
+        let old = self.export();
+        let result = self
+            .velocity
+            .import(&snapshot.velocity)
+            .and_then(|()| self.pitch.import(&snapshot.pitch))
+            .and_then(|()| self.yaw.import(&snapshot.yaw))
+            .and_then(|()| self.roll.import(&snapshot.roll));
+        match result {
+            Ok(()) => {
+                self.previous = None;
+                Ok(())
+            }
+            Err(e) => {
+                // Restoring a state that was valid a moment ago cannot fail.
+                let _ = self.velocity.import(&old.velocity);
+                let _ = self.pitch.import(&old.pitch);
+                let _ = self.yaw.import(&old.yaw);
+                let _ = self.roll.import(&old.roll);
+                Err(e)
+            }
+        }
+    }
+
+    fn check_interval(&self, prev: &HoverSample<T>, next: &HoverSample<T>) -> Result<(), Error> {
+        if next.time_us <= prev.time_us {
+            return Err(Error::NonMonotonicTime);
+        }
+        let dt = next.time_us - prev.time_us;
+        let nominal = u64::from(self.config.sample_period_us);
+        let tol = u64::from(self.config.period_tolerance_us);
+        let (min, max) = (nominal - tol, nominal + tol);
+        if dt < min || dt > max {
+            return Err(Error::TimeStep {
+                dt_us: dt,
+                min_us: min,
+                max_us: max,
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,30 @@
+//! The paper's helicopter identifiers (Section 5) as thin layers over [`TsRls`](crate::TsRls).
+//!
+//! Everything here is in the paper's axes and units (see [`crate::frames`] to convert from
+//! NED / forward-right-down with rad/s):
+//!
+//! | symbol | meaning | unit |
+//! |---|---|---|
+//! | φ, θ, ψ | roll, pitch, yaw (ZYX Euler angles, as PX4/ArduPilot report them) | rad |
+//! | `v^s = [v_x v_y v_z]` | inertial velocity, x east, y up, z south | m/s |
+//! | `ω^b = [q r p]` | pitch, yaw, roll rate (conventional signs: nose up, nose right, right wing down) | deg/s |
+//! | `u = [u_col u_ped u_lon u_lat]` | normalised controls; `u_col` stands for thrust and must stay positive near hover | −1…1 |
+//!
+//! A [`HoverIdentifier`] owns one translational model (Eq. 27, three outputs sharing θ) and
+//! three angular models (Eqs. 28–30). Each takes the premise and consequent terms from the
+//! sample at step k and learns the increment `y(k+1) − y(k)` (the coefficient of the state
+//! itself is fixed at 1).
+
+mod identifier;
+mod models;
+mod sample;
+pub mod table3;
+
+pub use identifier::{
+    HoverConfig, HoverIdentifier, HoverSnapshot, PaperFuzzyIdentifier, PaperPlainIdentifier,
+    StepOutput,
+};
+pub use models::{
+    RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
+};
+pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};

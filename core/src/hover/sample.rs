@@ -1,0 +1,135 @@
+//! One measurement sample and the state vector the identifier predicts.
+
+use crate::error::{Error, Quantity};
+use crate::scalar::Real;
+
+/// ZYX Euler angles (rad): roll φ, pitch θ, yaw ψ.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Attitude<T> {
+    /// Roll φ (rad), right wing down positive.
+    pub roll: T,
+    /// Pitch θ (rad), nose up positive.
+    pub pitch: T,
+    /// Yaw ψ (rad), clockwise from north seen from above.
+    pub yaw: T,
+}
+
+/// The four normalised controls (−1…1).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Controls<T> {
+    /// Main-rotor collective `u_col`; the models multiply by it as a stand-in for thrust
+    /// (Eq. 10), so at hover it must sit well above zero (for example near 0.5).
+    pub col: T,
+    /// Tail-rotor collective (pedal) `u_ped`.
+    pub ped: T,
+    /// Longitudinal cyclic `u_lon`.
+    pub lon: T,
+    /// Lateral cyclic `u_lat`.
+    pub lat: T,
+}
+
+impl<T: Real> Controls<T> {
+    /// `[u_col u_ped u_lon u_lat]`.
+    pub fn to_array(&self) -> [T; 4] {
+        [self.col, self.ped, self.lon, self.lat]
+    }
+}
+
+/// The six states the identifier predicts: `v^s` (m/s) and `[q r p]` (deg/s).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct HoverState<T> {
+    /// `[v_x v_y v_z]` (m/s), paper inertial axes.
+    pub velocity: [T; 3],
+    /// `[q r p]` (deg/s).
+    pub rates: [T; 3],
+}
+
+impl<T: Real> HoverState<T> {
+    /// `[v_x v_y v_z q r p]`.
+    pub fn to_array(&self) -> [T; 6] {
+        let [a, b, c] = self.velocity;
+        let [q, r, p] = self.rates;
+        [a, b, c, q, r, p]
+    }
+}
+
+/// One sample at time step k (paper axes and units, see [`crate::hover`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct HoverSample<T> {
+    /// Time stamp (µs, monotonic). Integer so that hours of flight lose no resolution.
+    pub time_us: u64,
+    /// Attitude (rad).
+    pub attitude: Attitude<T>,
+    /// Inertial velocity `v^s` (m/s).
+    pub velocity: [T; 3],
+    /// Body rates `[q r p]` (deg/s).
+    pub rates: [T; 3],
+    /// Controls applied from this sample until the next.
+    pub controls: Controls<T>,
+}
+
+impl<T: Real> HoverSample<T> {
+    /// The measured state of this sample.
+    pub fn state(&self) -> HoverState<T> {
+        HoverState {
+            velocity: self.velocity,
+            rates: self.rates,
+        }
+    }
+}
+
+/// The ranges a [`HoverSample`] must lie in to be accepted.
+///
+/// They are physical sanity bounds for a miniature helicopter, and they also guarantee that
+/// no regressor product can leave the estimator's numeric limits
+/// ([`REGRESSOR_LIMIT`](crate::rls::REGRESSOR_LIMIT)).
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SampleLimits;
+
+impl SampleLimits {
+    /// |φ| ≤ 3.2 rad (π plus margin).
+    pub const ROLL: f64 = 3.2;
+    /// |θ| ≤ 1.6 rad (π/2 plus margin).
+    pub const PITCH: f64 = 1.6;
+    /// |ψ| ≤ 6.3 rad (2π plus margin: both ±π and 0…2π conventions pass).
+    pub const YAW: f64 = 6.3;
+    /// Each |v_i| ≤ 100 m/s.
+    pub const VELOCITY: f64 = 100.0;
+    /// Each |ω_i| ≤ 2000 deg/s (a common gyro range).
+    pub const RATE: f64 = 2000.0;
+    /// Each |u_i| ≤ 1.
+    pub const CONTROL: f64 = 1.0;
+
+    /// Checks every field of a sample: `NonFinite` for NaN/±∞, `OutOfRange` beyond the limits.
+    pub fn check<T: Real>(s: &HoverSample<T>) -> Result<(), Error> {
+        let a = &s.attitude;
+        check(a.roll, Self::ROLL, Quantity::Roll)?;
+        check(a.pitch, Self::PITCH, Quantity::Pitch)?;
+        check(a.yaw, Self::YAW, Quantity::Yaw)?;
+        for (i, &v) in s.velocity.iter().enumerate() {
+            check(v, Self::VELOCITY, Quantity::Velocity(i as u8))?;
+        }
+        for (i, &w) in s.rates.iter().enumerate() {
+            check(w, Self::RATE, Quantity::Rate(i as u8))?;
+        }
+        for (i, u) in s.controls.to_array().into_iter().enumerate() {
+            check(u, Self::CONTROL, Quantity::Control(i as u8))?;
+        }
+        Ok(())
+    }
+}
+
+fn check<T: Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
+    if !x.is_finite() {
+        Err(Error::NonFinite(q))
+    } else if x.abs() > T::lit(limit) {
+        Err(Error::OutOfRange(q))
+    } else {
+        Ok(())
+    }
+}

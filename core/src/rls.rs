@@ -1,0 +1,615 @@
+//! Recursive least squares (paper Section 4), statically sized.
+//!
+//! The estimator solves `y(k) ≈ ξ(k)ᵀθ` for the parameter vector θ ∈ ℝᴺ, one scalar
+//! measurement at a time. Only the `NP = N(N+1)/2` distinct entries of the symmetric
+//! covariance P (or of its U-D factors) are stored, packed column by column: entry (i, j) with
+//! i ≤ j lives at `j(j+1)/2 + i`.
+//!
+//! Two algebraically equivalent [`Algorithm`]s are offered:
+//!
+//! * [`Algorithm::Covariance`]: the textbook form the paper prints,
+//!   `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K ξᵀP)/λ`, `θ ← θ + K(y − ξᵀθ)`. With λ = 1 and
+//!   `P(0) = αI` ([`RlsConfig::paper`]) it reproduces the paper exactly. In `f32` with the
+//!   paper's "very large" α the subtraction `P − KξᵀP` loses most digits to cancellation and
+//!   P can drift indefinite.
+//! * [`Algorithm::UdFactor`]: Bierman's U-D factorised update (`P = U D Uᵀ`, U unit upper
+//!   triangular, D diagonal). It propagates the factors instead of P, so P stays symmetric
+//!   positive semi-definite by construction and keeps about twice the significant digits.
+//!   This is the default ([`RlsConfig::default`]).
+//!
+//! Exponential forgetting (λ < 1) discounts old data so that slowly varying parameters can be
+//! tracked; without excitation it makes P grow without bound ("covariance windup"). The guard
+//! here: a step whose division by λ would push trace(P) above [`RlsConfig::max_trace`] is not
+//! divided (λ = 1 for that step), and the event is counted.
+//!
+//! Regressor entries that are exactly zero (rules that do not fire) are skipped wherever that
+//! saves work without changing the result: the products `Pξ`, `Uᵀξ` and `ξᵀθ` only visit the
+//! non-zero entries, and a U-D column whose `(Uᵀξ)_j` is zero is left untouched.
+//!
+//! Every update checks its inputs completely before it writes anything: on `Err` the
+//! estimator is unchanged, bit for bit.
+
+use crate::error::{ConfigError, Error, Quantity};
+use crate::scalar::{within, Real};
+
+/// Largest accepted magnitude of a regressor entry `ξ_j`.
+///
+/// With `α ≤ 1e12` and `N ≤ 512` this keeps every intermediate of an update far from `f32`
+/// overflow, so an accepted input can never produce ∞ or NaN.
+pub const REGRESSOR_LIMIT: f64 = 1e7;
+/// Largest accepted magnitude of a target `y` and of the prior innovation `y − ξᵀθ`.
+pub const TARGET_LIMIT: f64 = 1e9;
+/// Largest accepted initial covariance α and trace bound.
+pub const COVARIANCE_LIMIT: f64 = 1e12;
+
+/// How the covariance is propagated (see the [module docs](self)).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Algorithm {
+    /// The covariance form of the paper's Section 4 (packed symmetric P).
+    Covariance,
+    /// Bierman's U-D factorisation (packed unit upper U with D on the diagonal).
+    UdFactor,
+}
+
+/// Settings of one RLS estimator.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RlsConfig<T> {
+    /// Covariance propagation.
+    pub algorithm: Algorithm,
+    /// α in `P(0) = α I`: the prior variance of each parameter (in (0, 1e12]).
+    pub initial_covariance: T,
+    /// Forgetting factor λ ∈ [0.9, 1]; 1 (the paper) forgets nothing.
+    pub forgetting: T,
+    /// Windup guard for λ < 1: upper bound on trace(P) (> 0, ≤ 1e12).
+    pub max_trace: T,
+}
+
+impl<T: Real> RlsConfig<T> {
+    /// The paper's RLS: covariance form, λ = 1, `P(0) = αI`.
+    pub fn paper(alpha: T) -> Self {
+        Self {
+            algorithm: Algorithm::Covariance,
+            initial_covariance: alpha,
+            forgetting: T::one(),
+            max_trace: T::lit(COVARIANCE_LIMIT),
+        }
+    }
+
+    /// Bierman U-D form, λ = 1, `P(0) = αI`: the paper's estimator, computed robustly.
+    pub fn robust(alpha: T) -> Self {
+        Self {
+            algorithm: Algorithm::UdFactor,
+            ..Self::paper(alpha)
+        }
+    }
+
+    /// Returns `self` with forgetting factor λ and trace bound (windup guard).
+    pub fn with_forgetting(self, lambda: T, max_trace: T) -> Self {
+        Self {
+            forgetting: lambda,
+            max_trace,
+            ..self
+        }
+    }
+
+    /// Checks the ranges documented on the fields.
+    pub fn validate(&self) -> Result<(), Error> {
+        let limit = T::lit(COVARIANCE_LIMIT);
+        let a = self.initial_covariance;
+        if !(a.is_finite() && a > T::zero() && a <= limit) {
+            return Err(ConfigError::InitialCovariance.into());
+        }
+        let l = self.forgetting;
+        let t = self.max_trace;
+        let lambda_ok = l.is_finite() && l >= T::lit(0.9) && l <= T::one();
+        let trace_ok = t.is_finite() && t > T::zero() && t <= limit;
+        if !(lambda_ok && trace_ok) {
+            return Err(ConfigError::Forgetting.into());
+        }
+        Ok(())
+    }
+}
+
+impl<T: Real> Default for RlsConfig<T> {
+    /// [`RlsConfig::robust`] with α = 10⁶.
+    fn default() -> Self {
+        Self::robust(T::lit(1e6))
+    }
+}
+
+/// Everything an [`Rls`] has learnt, for export and warm start (import).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RlsState<T, const N: usize, const NP: usize> {
+    /// How `factor` is to be read.
+    pub algorithm: Algorithm,
+    /// Parameter estimate θ.
+    pub theta: [T; N],
+    /// Packed covariance P (Covariance) or packed U with D on the diagonal (UdFactor).
+    pub factor: [T; NP],
+    /// Number of updates made.
+    pub updates: u32,
+}
+
+/// Counters and last values of an [`Rls`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RlsCounters<T> {
+    /// Updates made since construction or reset.
+    pub updates: u32,
+    /// Prior innovation `y − ξᵀθ` of the last update.
+    pub last_innovation: T,
+    /// Steps in which forgetting was suspended by the trace bound.
+    pub windup_guards: u32,
+}
+
+/// Recursive least squares over `N` parameters with `NP = N(N+1)/2` packed covariance entries.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rls<T, const N: usize, const NP: usize> {
+    config: RlsConfig<T>,
+    theta: [T; N],
+    factor: [T; NP],
+    counters: RlsCounters<T>,
+}
+
+/// Start of column j of the packed upper triangle.
+#[inline(always)]
+const fn col(j: usize) -> usize {
+    j * (j + 1) / 2
+}
+
+impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
+    /// Compile-time size check: evaluated when `new` is instantiated.
+    const SIZES_OK: () = assert!(
+        NP == N * (N + 1) / 2 && N >= 1 && N <= 512,
+        "Rls<N, NP> needs NP = N(N+1)/2 and 1 <= N <= 512"
+    );
+
+    /// A fresh estimator: θ(0) = 0, P(0) = αI.
+    pub fn new(config: RlsConfig<T>) -> Result<Self, Error> {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::SIZES_OK;
+        config.validate()?;
+        let mut rls = Self {
+            config,
+            theta: [T::zero(); N],
+            factor: [T::zero(); NP],
+            counters: RlsCounters {
+                updates: 0,
+                last_innovation: T::zero(),
+                windup_guards: 0,
+            },
+        };
+        rls.reset();
+        Ok(rls)
+    }
+
+    /// A fresh estimator starting from a given θ(0) (the paper's "good initial guess").
+    pub fn with_initial_parameters(config: RlsConfig<T>, theta0: [T; N]) -> Result<Self, Error> {
+        for (i, t) in theta0.iter().enumerate() {
+            if !t.is_finite() {
+                return Err(Error::NonFinite(Quantity::Parameter(i as u16)));
+            }
+        }
+        let mut rls = Self::new(config)?;
+        rls.theta = theta0;
+        Ok(rls)
+    }
+
+    /// Back to θ = 0, P = αI, counters cleared.
+    pub fn reset(&mut self) {
+        self.theta = [T::zero(); N];
+        let diag = self.config.initial_covariance;
+        for j in 0..N {
+            let start = col(j);
+            if let Some((diagonal, above)) = self
+                .factor
+                .get_mut(start..=start + j)
+                .and_then(|column| column.split_last_mut())
+            {
+                for u in above {
+                    *u = T::zero();
+                }
+                *diagonal = diag;
+            }
+        }
+        self.counters = RlsCounters {
+            updates: 0,
+            last_innovation: T::zero(),
+            windup_guards: 0,
+        };
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &RlsConfig<T> {
+        &self.config
+    }
+
+    /// Parameter estimate θ.
+    pub fn parameters(&self) -> &[T; N] {
+        &self.theta
+    }
+
+    /// Counters and the last prior innovation.
+    pub fn counters(&self) -> &RlsCounters<T> {
+        &self.counters
+    }
+
+    /// The raw packed covariance (or U-D factor) storage.
+    pub fn packed_factor(&self) -> &[T; NP] {
+        &self.factor
+    }
+
+    /// Diagonal of P: the current variance of each parameter.
+    ///
+    /// For the U-D form `P_ii = D_i + Σ_{j>i} U_ij² D_j` (O(N²); meant for diagnostics).
+    pub fn covariance_diagonal(&self) -> [T; N] {
+        let mut diag = [T::zero(); N];
+        match self.config.algorithm {
+            Algorithm::Covariance => {
+                for (j, d) in diag.iter_mut().enumerate() {
+                    *d = self.factor.get(col(j) + j).copied().unwrap_or_else(T::zero);
+                }
+            }
+            Algorithm::UdFactor => {
+                for j in 0..N {
+                    let start = col(j);
+                    let Some(column) = self.factor.get(start..=start + j) else {
+                        continue;
+                    };
+                    let Some((&dj, above)) = column.split_last() else {
+                        continue;
+                    };
+                    for (d, &u) in diag.iter_mut().zip(above) {
+                        *d += u * u * dj;
+                    }
+                    if let Some(d) = diag.get_mut(j) {
+                        *d += dj;
+                    }
+                }
+            }
+        }
+        diag
+    }
+
+    /// trace(P) (O(N) for the covariance form, O(N²) for U-D).
+    pub fn trace(&self) -> T {
+        let mut t = T::zero();
+        for d in self.covariance_diagonal() {
+            t += d;
+        }
+        t
+    }
+
+    /// Entry `P_ij` of the covariance (`None` outside N×N). O(1) for the covariance form,
+    /// O(N) for U-D (`P_ij = Σ_{k ≥ max(i,j)} U_ik D_k U_jk`).
+    pub fn covariance(&self, i: usize, j: usize) -> Option<T> {
+        if i >= N || j >= N {
+            return None;
+        }
+        let (a, b) = if i <= j { (i, j) } else { (j, i) };
+        match self.config.algorithm {
+            Algorithm::Covariance => self.factor.get(col(b) + a).copied(),
+            Algorithm::UdFactor => {
+                let u = |r: usize, k: usize| -> T {
+                    if r == k {
+                        T::one()
+                    } else {
+                        self.factor.get(col(k) + r).copied().unwrap_or_else(T::zero)
+                    }
+                };
+                let mut s = T::zero();
+                for k in b..N {
+                    let dk = self.factor.get(col(k) + k).copied().unwrap_or_else(T::zero);
+                    s += u(a, k) * dk * u(b, k);
+                }
+                Some(s)
+            }
+        }
+    }
+
+    /// The full symmetric P, row-major (for tests and reports; N² values on the stack).
+    pub fn covariance_matrix(&self) -> [[T; N]; N] {
+        let mut p = [[T::zero(); N]; N];
+        for (i, row) in p.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = self.covariance(i, j).unwrap_or_else(T::zero);
+            }
+        }
+        p
+    }
+
+    /// Prediction `ξᵀθ` for a regressor (checked like an update's regressor).
+    pub fn predict(&self, regressor: &[T; N]) -> Result<T, Error> {
+        check_regressor(regressor)?;
+        Ok(dot(regressor, &self.theta))
+    }
+
+    /// One scalar update with regressor ξ and target y. Returns the prior innovation
+    /// `y − ξᵀθ(k)`. On `Err` nothing changed.
+    pub fn update(&mut self, regressor: &[T; N], target: T) -> Result<T, Error> {
+        let [e] = self.update_many(&[*regressor], &[target])?;
+        Ok(e)
+    }
+
+    /// M scalar measurements that share θ, processed one after another (exact for RLS with
+    /// unit measurement weights). All inputs are checked first; the returned innovations are
+    /// the prior ones, `y_m − ξ_mᵀθ(k)`, all taken with θ before this call.
+    pub fn update_many<const M: usize>(
+        &mut self,
+        regressors: &[[T; N]; M],
+        targets: &[T; M],
+    ) -> Result<[T; M], Error> {
+        let innovations = self.check(regressors, targets)?;
+        self.apply(regressors, targets, &innovations);
+        Ok(innovations)
+    }
+
+    /// The checks of [`update_many`](Self::update_many) without the update: every regressor
+    /// entry within [`REGRESSOR_LIMIT`], every target and prior innovation within
+    /// [`TARGET_LIMIT`]. Returns the prior innovations.
+    pub fn check<const M: usize>(
+        &self,
+        regressors: &[[T; N]; M],
+        targets: &[T; M],
+    ) -> Result<[T; M], Error> {
+        let limit = T::lit(TARGET_LIMIT);
+        let mut innovations = [T::zero(); M];
+        for (m, ((xi, &y), e)) in regressors
+            .iter()
+            .zip(targets.iter())
+            .zip(innovations.iter_mut())
+            .enumerate()
+        {
+            check_regressor(xi)?;
+            if !y.is_finite() {
+                return Err(Error::NonFinite(Quantity::Target(m as u8)));
+            }
+            if y.abs() > limit {
+                return Err(Error::OutOfRange(Quantity::Target(m as u8)));
+            }
+            *e = y - dot(xi, &self.theta);
+            if !within(*e, limit) {
+                return Err(Error::OutOfRange(Quantity::Target(m as u8)));
+            }
+        }
+        Ok(innovations)
+    }
+
+    /// The update of [`update_many`](Self::update_many) for inputs that passed
+    /// [`check`](Self::check) (with the innovations it returned). Infallible: within those
+    /// limits no intermediate can overflow.
+    pub(crate) fn apply<const M: usize>(
+        &mut self,
+        regressors: &[[T; N]; M],
+        targets: &[T; M],
+        innovations: &[T; M],
+    ) {
+        for (xi, &y) in regressors.iter().zip(targets.iter()) {
+            self.update_checked(xi, y);
+        }
+        if let Some(&last) = innovations.last() {
+            self.counters.last_innovation = last;
+        }
+    }
+
+    /// Exports everything learnt (θ, packed factor, update count).
+    pub fn export(&self) -> RlsState<T, N, NP> {
+        RlsState {
+            algorithm: self.config.algorithm,
+            theta: self.theta,
+            factor: self.factor,
+            updates: self.counters.updates,
+        }
+    }
+
+    /// Imports a state exported by an estimator of the same algorithm and size (warm start).
+    /// The state is checked (finite, non-negative variances); on `Err` nothing changed.
+    pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
+        if state.algorithm != self.config.algorithm {
+            return Err(Error::Incompatible);
+        }
+        for (i, t) in state.theta.iter().enumerate() {
+            if !t.is_finite() {
+                return Err(Error::NonFinite(Quantity::Parameter(i as u16)));
+            }
+        }
+        let limit = T::lit(COVARIANCE_LIMIT);
+        for (i, p) in state.factor.iter().enumerate() {
+            if !p.is_finite() {
+                return Err(Error::NonFinite(Quantity::Covariance(i as u16)));
+            }
+        }
+        for j in 0..N {
+            let k = col(j) + j;
+            let d = state.factor.get(k).copied().unwrap_or_else(T::zero);
+            if d < T::zero() || d > limit {
+                return Err(Error::OutOfRange(Quantity::Covariance(k as u16)));
+            }
+        }
+        self.theta = state.theta;
+        self.factor = state.factor;
+        self.counters.updates = state.updates;
+        Ok(())
+    }
+
+    /// One scalar update whose inputs passed the checks of `update_many`.
+    fn update_checked(&mut self, xi: &[T; N], y: T) {
+        let mut nz = [0u16; N];
+        let mut nnz = 0usize;
+        for (j, &x) in xi.iter().enumerate() {
+            if x != T::zero() {
+                if let Some(slot) = nz.get_mut(nnz) {
+                    *slot = j as u16;
+                    nnz += 1;
+                }
+            }
+        }
+        let nz = nz.get(..nnz).unwrap_or(&[]);
+        let e = y - dot(xi, &self.theta);
+        match self.config.algorithm {
+            Algorithm::Covariance => self.covariance_update(xi, nz, e),
+            Algorithm::UdFactor => self.ud_update(xi, nz, e),
+        }
+        self.counters.updates = self.counters.updates.wrapping_add(1);
+    }
+
+    /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`.
+    fn covariance_update(&mut self, xi: &[T; N], nz: &[u16], e: T) {
+        let lambda = self.config.forgetting;
+        // g = P ξ over the non-zero ξ_j only.
+        let mut g = [T::zero(); N];
+        for (i, gi) in g.iter_mut().enumerate() {
+            let mut s = T::zero();
+            for &j in nz {
+                let j = usize::from(j);
+                let idx = if i <= j { col(j) + i } else { col(i) + j };
+                let p = self.factor.get(idx).copied().unwrap_or_else(T::zero);
+                let x = xi.get(j).copied().unwrap_or_else(T::zero);
+                s += p * x;
+            }
+            *gi = s;
+        }
+        let mut denom = lambda;
+        for &j in nz {
+            let j = usize::from(j);
+            denom += xi.get(j).copied().unwrap_or_else(T::zero)
+                * g.get(j).copied().unwrap_or_else(T::zero);
+        }
+        let mut k = [T::zero(); N];
+        for (ki, &gi) in k.iter_mut().zip(g.iter()) {
+            *ki = gi / denom;
+        }
+        // Forgetting with the windup guard: trace(P⁺)/λ must stay within the bound.
+        let mut scale = None;
+        if lambda < T::one() {
+            let mut trace = T::zero();
+            for (j, (&kj, &gj)) in k.iter().zip(g.iter()).enumerate() {
+                trace += self.factor.get(col(j) + j).copied().unwrap_or_else(T::zero) - kj * gj;
+            }
+            if trace / lambda <= self.config.max_trace {
+                scale = Some(T::one() / lambda);
+            } else {
+                self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
+            }
+        }
+        for (j, &gj) in g.iter().enumerate() {
+            if gj == T::zero() && scale.is_none() {
+                continue; // P_ij − K_i·0 = P_ij
+            }
+            let start = col(j);
+            let Some(column) = self.factor.get_mut(start..=start + j) else {
+                continue;
+            };
+            match scale {
+                None => {
+                    for (p, &ki) in column.iter_mut().zip(k.iter()) {
+                        *p -= ki * gj;
+                    }
+                }
+                Some(s) => {
+                    for (p, &ki) in column.iter_mut().zip(k.iter()) {
+                        *p = (*p - ki * gj) * s;
+                    }
+                }
+            }
+        }
+        for (t, &ki) in self.theta.iter_mut().zip(k.iter()) {
+            *t += ki * e;
+        }
+    }
+
+    /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
+    fn ud_update(&mut self, xi: &[T; N], nz: &[u16], e: T) {
+        let lambda = self.config.forgetting;
+        // f = Uᵀ ξ (U unit upper triangular), over the non-zero ξ_i only; v = D f.
+        let mut f = [T::zero(); N];
+        let mut v = [T::zero(); N];
+        for (j, (fj, vj)) in f.iter_mut().zip(v.iter_mut()).enumerate() {
+            let start = col(j);
+            let mut s = xi.get(j).copied().unwrap_or_else(T::zero);
+            for &i in nz {
+                let i = usize::from(i);
+                if i >= j {
+                    break;
+                }
+                let u = self.factor.get(start + i).copied().unwrap_or_else(T::zero);
+                s += u * xi.get(i).copied().unwrap_or_else(T::zero);
+            }
+            *fj = s;
+            *vj = self.factor.get(start + j).copied().unwrap_or_else(T::zero) * s;
+        }
+        // b accumulates the unnormalised gain U D f = P ξ.
+        let mut b = [T::zero(); N];
+        let mut alpha = lambda;
+        for j in 0..N {
+            let fj = f.get(j).copied().unwrap_or_else(T::zero);
+            if fj == T::zero() {
+                continue; // v_j = 0: column j and D_j unchanged, b unchanged
+            }
+            let vj = v.get(j).copied().unwrap_or_else(T::zero);
+            let alpha_prev = alpha;
+            alpha = alpha_prev + fj * vj;
+            let p = -fj / alpha_prev;
+            let start = col(j);
+            let Some(column) = self.factor.get_mut(start..=start + j) else {
+                continue;
+            };
+            let Some((dj, above)) = column.split_last_mut() else {
+                continue;
+            };
+            *dj *= alpha_prev / alpha;
+            for (u, bi) in above.iter_mut().zip(b.iter_mut()) {
+                let u_old = *u;
+                *u = u_old + *bi * p;
+                *bi += u_old * vj;
+            }
+            if let Some(bj) = b.get_mut(j) {
+                *bj = vj;
+            }
+        }
+        for (t, &bi) in self.theta.iter_mut().zip(b.iter()) {
+            *t += bi / alpha * e;
+        }
+        if lambda < T::one() {
+            if self.trace() / lambda <= self.config.max_trace {
+                let s = T::one() / lambda;
+                for j in 0..N {
+                    if let Some(d) = self.factor.get_mut(col(j) + j) {
+                        *d *= s;
+                    }
+                }
+            } else {
+                self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
+            }
+        }
+    }
+}
+
+/// Checks every regressor entry: finite and within [`REGRESSOR_LIMIT`].
+fn check_regressor<T: Real, const N: usize>(xi: &[T; N]) -> Result<(), Error> {
+    let limit = T::lit(REGRESSOR_LIMIT);
+    for (j, &x) in xi.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::NonFinite(Quantity::Regressor(j as u16)));
+        }
+        if x.abs() > limit {
+            return Err(Error::OutOfRange(Quantity::Regressor(j as u16)));
+        }
+    }
+    Ok(())
+}
+
+/// `ξᵀθ` in index order, skipping zero ξ_j (bit-identical to the dense sum: adding ±0 changes
+/// nothing and the sum starts from +0).
+#[inline]
+fn dot<T: Real, const N: usize>(xi: &[T; N], theta: &[T; N]) -> T {
+    let mut s = T::zero();
+    for (&x, &t) in xi.iter().zip(theta.iter()) {
+        if x != T::zero() {
+            s += x * t;
+        }
+    }
+    s
+}

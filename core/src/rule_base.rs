@@ -1,0 +1,185 @@
+//! Takagi-Sugeno rule base: premise variables, fuzzy sets, product t-norm and the normalised
+//! firing strengths `ξ_i = μ_i / Σ_j μ_j` of the paper's Section 4.
+
+use heapless::Vec;
+
+use crate::error::{ConfigError, Error, Quantity};
+use crate::membership::MembershipFunction;
+use crate::scalar::Real;
+
+/// Most fuzzy sets one premise variable can hold (left shoulder, centre, right shoulder).
+pub const MAX_SETS: usize = 3;
+
+/// The fuzzy sets (linguistic values) of one premise variable, in rule order.
+///
+/// An empty variable takes no part in the rule base (the `(*)` rows of the paper's Table 3).
+pub type PremiseSets<T> = Vec<MembershipFunction<T>, MAX_SETS, u8>;
+
+/// A rule base over `V` premise variables with `R` rules.
+///
+/// The rules are every combination of one set per participating variable (the product of the
+/// set counts must equal `R`). Rule order: the first variable is the most significant digit,
+/// each variable's sets in the order given. With no participating variable the rule base has
+/// one rule with ξ = 1: that is the plain (non-fuzzy) RLS model of the paper's Eqs. 19 and 26.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RuleBase<T, const V: usize, const R: usize> {
+    variables: [PremiseSets<T>; V],
+}
+
+impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
+    /// Builds a rule base, checking every set and the rule count.
+    pub fn new(variables: [PremiseSets<T>; V]) -> Result<Self, Error> {
+        let mut rules: u32 = 1;
+        for (v, sets) in variables.iter().enumerate() {
+            for (s, mf) in sets.iter().enumerate() {
+                if !mf.is_valid() {
+                    return Err(ConfigError::MembershipFunction {
+                        variable: v as u8,
+                        set: s as u8,
+                    }
+                    .into());
+                }
+            }
+            if !sets.is_empty() {
+                rules = rules.saturating_mul(sets.len() as u32);
+            }
+        }
+        if rules as usize != R || R > usize::from(u16::MAX) {
+            return Err(ConfigError::RuleCount {
+                expected: R.min(usize::from(u16::MAX)) as u16,
+                found: rules,
+            }
+            .into());
+        }
+        Ok(Self { variables })
+    }
+
+    /// The single-rule base of the plain RLS baseline (no premise variable takes part).
+    pub fn single_rule() -> Result<Self, Error> {
+        Self::new(core::array::from_fn(|_| Vec::new()))
+    }
+
+    /// The sets of each premise variable.
+    pub fn variables(&self) -> &[PremiseSets<T>; V] {
+        &self.variables
+    }
+
+    /// Checks that every premise value that takes part is finite.
+    pub fn check_premise(&self, x: &[T; V]) -> Result<(), Error> {
+        for (v, (sets, xv)) in self.variables.iter().zip(x.iter()).enumerate() {
+            if !sets.is_empty() && !xv.is_finite() {
+                return Err(Error::NonFinite(Quantity::Premise(v as u8)));
+            }
+        }
+        Ok(())
+    }
+
+    /// Normalised firing strengths `ξ_i` (each in [0, 1], summing to 1 up to rounding).
+    ///
+    /// The premise of rule i is the product of its sets' degrees (product t-norm), multiplied
+    /// in variable order. When the sum of all rule premises is below the smallest normal
+    /// number (every rule far outside its sets), the strengths are computed from the
+    /// exponents instead: `ξ_i = exp(l_i − max_j l_j) / Σ_k exp(l_k − max_j l_j)` with
+    /// `l_i = Σ log μ`, which is the same quantity without underflow. The result is never NaN
+    /// for a finite premise.
+    pub fn firing_strengths(&self, x: &[T; V]) -> Result<[T; R], Error> {
+        self.check_premise(x)?;
+        let mut degrees = [[T::zero(); MAX_SETS]; V];
+        for ((d, sets), &xv) in degrees.iter_mut().zip(self.variables.iter()).zip(x.iter()) {
+            for (dv, mf) in d.iter_mut().zip(sets.iter()) {
+                *dv = mf.degree(xv);
+            }
+        }
+        let mut mu = [T::one(); R];
+        for (m, digits) in mu.iter_mut().zip(self.rules()) {
+            for ((d, sets), &s) in degrees.iter().zip(self.variables.iter()).zip(digits.iter()) {
+                if !sets.is_empty() {
+                    if let Some(&dv) = d.get(s) {
+                        *m *= dv;
+                    }
+                }
+            }
+        }
+        let mut sum = T::zero();
+        for &m in mu.iter() {
+            sum += m;
+        }
+        if sum >= T::MIN_POSITIVE {
+            for m in mu.iter_mut() {
+                *m /= sum;
+            }
+            return Ok(mu);
+        }
+        Ok(self.firing_strengths_log(x))
+    }
+
+    /// The log-domain form used when every premise underflows.
+    fn firing_strengths_log(&self, x: &[T; V]) -> [T; R] {
+        let mut logs = [T::zero(); R];
+        for (l, digits) in logs.iter_mut().zip(self.rules()) {
+            for ((sets, &s), &xv) in self.variables.iter().zip(digits.iter()).zip(x.iter()) {
+                if let Some(mf) = sets.get(s) {
+                    *l += mf.log_degree(xv);
+                }
+            }
+        }
+        let mut max = logs.first().copied().unwrap_or_else(T::zero);
+        for &l in logs.iter() {
+            if l > max {
+                max = l;
+            }
+        }
+        let mut sum = T::zero();
+        for l in logs.iter_mut() {
+            *l = (*l - max).exp();
+            sum += *l;
+        }
+        // sum >= 1: the largest term is exp(0).
+        for l in logs.iter_mut() {
+            *l /= sum;
+        }
+        logs
+    }
+
+    /// The rules in order, each as the set index of every variable (0 for variables that
+    /// take no part).
+    pub fn rules(&self) -> Rules<'_, T, V> {
+        Rules {
+            variables: &self.variables,
+            digits: [0; V],
+            remaining: R,
+        }
+    }
+}
+
+/// Iterator over the rules of a [`RuleBase`]: for each rule, the set index of every variable.
+#[derive(Clone, Debug)]
+pub struct Rules<'a, T, const V: usize> {
+    variables: &'a [PremiseSets<T>; V],
+    digits: [usize; V],
+    remaining: usize,
+}
+
+impl<T, const V: usize> Iterator for Rules<'_, T, V> {
+    type Item = [usize; V];
+
+    fn next(&mut self) -> Option<[usize; V]> {
+        if self.remaining == 0 {
+            return None;
+        }
+        self.remaining -= 1;
+        let current = self.digits;
+        // Mixed-radix increment, last variable fastest.
+        for (d, sets) in self.digits.iter_mut().zip(self.variables.iter()).rev() {
+            if sets.is_empty() {
+                continue;
+            }
+            *d += 1;
+            if *d < sets.len() {
+                break;
+            }
+            *d = 0;
+        }
+        Some(current)
+    }
+}
