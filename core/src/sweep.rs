@@ -22,7 +22,7 @@ pub const C1: f64 = 4.0;
 /// C2 as printed in the paper: the sweep ends 0.23 % above ω_max (NOTES.md item 5).
 pub const C2_PAPER: f64 = 0.0187;
 /// C2 = 1/(e^C1 − 1): ν(T_rec) = ω_max exactly.
-pub const C2_EXACT: f64 = 0.018_657_157_830_828_6;
+pub const C2_EXACT: f64 = 0.018_657_360_363_774_05;
 
 /// One of the four controls.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

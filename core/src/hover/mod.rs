@@ -25,6 +25,6 @@ pub use identifier::{
     StepOutput,
 };
 pub use models::{
-    RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
+    rotor_axis, RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
 };
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};

@@ -193,16 +193,22 @@ pub enum Workload {
     Xorshift = 1,
     /// `iterations` single-precision multiply-adds (FPU).
     FloatMac = 2,
-    /// CRC-32 over a 240-byte buffer, `iterations` times.
-    Crc32 = 3,
+    /// [`encode_frame`](super::encode_frame) of a 240-byte payload (CRC-32 + COBS),
+    /// `iterations` times.
+    EncodeFrame = 3,
 }
 
 impl Workload {
     /// The workload with code `code`.
     pub fn from_u8(code: u8) -> Option<Self> {
-        [Self::Empty, Self::Xorshift, Self::FloatMac, Self::Crc32]
-            .into_iter()
-            .find(|w| *w as u8 == code)
+        [
+            Self::Empty,
+            Self::Xorshift,
+            Self::FloatMac,
+            Self::EncodeFrame,
+        ]
+        .into_iter()
+        .find(|w| *w as u8 == code)
     }
 }
 
