@@ -1,0 +1,256 @@
+//! Board-agnostic link application: bytes in, frames decoded, messages dispatched, replies out.
+//!
+//! [`Link`] is generic over any `embedded_io::Read + Write` byte stream (UART, USB-CDC, a TCP
+//! socket in a host test) and a [`Platform`] for the few things that need the MCU. Nothing a
+//! peer sends can stop it: rejected frames are counted by the decoder, valid frames of unknown
+//! type or with bad payloads are counted and answered with `Nack`, I/O errors are counted.
+
+use core::hint::black_box;
+
+use embedded_io::{Read, Write};
+use rotorid::telemetry::{
+    self,
+    msg::{
+        CostReport, CostRequest, FaultKind, Hello, MsgType, Nack, NackReason, StatsReport, Workload,
+    },
+    Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
+};
+
+/// What the link needs from the MCU besides the byte stream.
+pub trait Platform {
+    /// Runs `f` and returns its result and the elapsed time in cycle-counter ticks.
+    fn measure<R>(&mut self, f: impl FnOnce() -> R) -> (R, u64);
+    /// Crashes on purpose (test hook for the panic and fault paths).
+    fn inject_fault(&mut self, kind: FaultKind) -> !;
+}
+
+/// Firmware name sent in `Hello`.
+const NAME: &[u8] = concat!("rotorid firmware-example ", env!("CARGO_PKG_VERSION")).as_bytes();
+/// `Hello` flag bit 0: the `FaultInject` hook is enabled.
+const FLAG_FAULT_INJECT: u8 = 1;
+
+/// Counters of the application layer (the decoder counts the framing layer).
+#[derive(Clone, Copy, Debug, Default)]
+struct AppCounters {
+    unknown_type: u32,
+    bad_payload: u32,
+    uart_errors: u32,
+}
+
+/// The link application.
+pub struct Link<U, P> {
+    io: U,
+    platform: P,
+    decoder: FrameDecoder,
+    tx: FrameEncoder,
+    counters: AppCounters,
+}
+
+impl<U: Read + Write, P: Platform> Link<U, P> {
+    /// A link over `io`.
+    pub fn new(io: U, platform: P) -> Self {
+        Self {
+            io,
+            platform,
+            decoder: FrameDecoder::new(),
+            tx: FrameEncoder::new(),
+            counters: AppCounters::default(),
+        }
+    }
+
+    /// Announces itself with `Hello`, then serves requests forever.
+    pub fn run(&mut self) -> ! {
+        self.send_hello();
+        loop {
+            self.poll();
+        }
+    }
+
+    /// Sends the boot announcement.
+    pub fn send_hello(&mut self) {
+        let hello = Hello {
+            version: telemetry::VERSION,
+            max_payload: MAX_PAYLOAD as u16,
+            flags: FLAG_FAULT_INJECT,
+            name: NAME,
+        };
+        let mut out = Out::new(&mut self.io, &mut self.tx, &mut self.counters);
+        out.reply(MsgType::Hello, |w| hello.write(w));
+    }
+
+    /// Reads what the stream has (blocking for at least one byte) and handles every frame.
+    pub fn poll(&mut self) {
+        let mut rx = [0u8; 64];
+        let n = match self.io.read(&mut rx) {
+            Ok(n) => n,
+            Err(e) => {
+                defmt::warn!("read error: {}", defmt::Debug2Format(&e));
+                self.counters.uart_errors = self.counters.uart_errors.wrapping_add(1);
+                return;
+            }
+        };
+        for &b in rx.get(..n).unwrap_or_default() {
+            let Self {
+                io,
+                platform,
+                decoder,
+                tx,
+                counters,
+            } = self;
+            match decoder.push(b) {
+                None => {}
+                Some(Err(e)) => defmt::warn!("rejected frame: {}", e),
+                Some(Ok(frame)) if frame.msg_type == MsgType::StatsRequest.code() => {
+                    let (seq, empty) = (frame.seq, frame.payload.is_empty());
+                    // The frame's borrow of the decoder ends here, so its counters (which
+                    // already include this request) can be read.
+                    let report = StatsReport {
+                        link: *decoder.stats(),
+                        unknown_type: counters.unknown_type,
+                        bad_payload: counters.bad_payload,
+                        uart_errors: counters.uart_errors,
+                        frames_sent: tx.frames(),
+                    };
+                    let mut out = Out::new(io, tx, counters);
+                    if empty {
+                        out.reply(MsgType::Stats, |w| report.write(w));
+                    } else {
+                        out.nack(seq, MsgType::StatsRequest.code(), NackReason::BadPayload);
+                    }
+                }
+                Some(Ok(frame)) => handle(frame, platform, &mut Out::new(io, tx, counters)),
+            }
+        }
+    }
+}
+
+/// Reply path: encoder, stream and counters borrowed together.
+struct Out<'a, U> {
+    io: &'a mut U,
+    tx: &'a mut FrameEncoder,
+    counters: &'a mut AppCounters,
+}
+
+impl<'a, U: Write> Out<'a, U> {
+    fn new(io: &'a mut U, tx: &'a mut FrameEncoder, counters: &'a mut AppCounters) -> Self {
+        Self { io, tx, counters }
+    }
+
+    /// Builds a payload with `build` and sends it as one frame of type `t`.
+    fn reply(
+        &mut self,
+        t: MsgType,
+        build: impl FnOnce(&mut Writer<'_>) -> Result<(), PayloadError>,
+    ) {
+        let mut payload = [0u8; MAX_PAYLOAD];
+        let mut w = Writer::new(&mut payload);
+        match build(&mut w) {
+            Ok(()) => self.send(t, w.written()),
+            // Only a programming error (a reply larger than a frame) gets here.
+            Err(e) => defmt::error!("cannot build {}: {}", t, e),
+        }
+    }
+
+    fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason) {
+        if reason == NackReason::UnknownType {
+            self.counters.unknown_type = self.counters.unknown_type.wrapping_add(1);
+        } else if reason == NackReason::BadPayload {
+            self.counters.bad_payload = self.counters.bad_payload.wrapping_add(1);
+        }
+        let nack = Nack {
+            seq,
+            msg_type,
+            reason: reason as u8,
+        };
+        self.reply(MsgType::Nack, |w| nack.write(w));
+    }
+
+    fn send(&mut self, t: MsgType, payload: &[u8]) {
+        let mut wire = [0u8; MAX_WIRE_LEN];
+        match self.tx.encode(t.code(), payload, &mut wire) {
+            Ok(bytes) => {
+                if let Err(e) = self.io.write_all(bytes) {
+                    defmt::warn!("write error: {}", defmt::Debug2Format(&e));
+                    self.counters.uart_errors = self.counters.uart_errors.wrapping_add(1);
+                }
+            }
+            Err(e) => defmt::error!("cannot encode {}: {}", t, e),
+        }
+    }
+}
+
+/// Dispatches one valid frame (other than `StatsRequest`).
+fn handle<U: Write, P: Platform>(frame: Frame<'_>, platform: &mut P, out: &mut Out<'_, U>) {
+    match frame.kind() {
+        Some(MsgType::Ping) => out.send(MsgType::Pong, frame.payload),
+        Some(MsgType::CostRequest) => match CostRequest::read(frame.payload) {
+            Ok(req) => {
+                let report = run_cost(platform, req);
+                defmt::info!("cost {}", report);
+                out.reply(MsgType::Cost, |w| report.write(w));
+            }
+            Err(_) => out.nack(frame.seq, frame.msg_type, NackReason::BadPayload),
+        },
+        Some(MsgType::FaultInject) => match frame.payload {
+            [code] => match FaultKind::from_u8(*code) {
+                Some(kind) => platform.inject_fault(kind),
+                None => out.nack(frame.seq, frame.msg_type, NackReason::BadPayload),
+            },
+            _ => out.nack(frame.seq, frame.msg_type, NackReason::BadPayload),
+        },
+        // Everything else, including the reserved identification messages, is not handled
+        // by this firmware yet.
+        _ => {
+            defmt::warn!("unhandled message type {=u8:#04x}", frame.msg_type);
+            out.nack(frame.seq, frame.msg_type, NackReason::UnknownType);
+        }
+    }
+}
+
+/// Runs a dummy workload under the platform's stopwatch.
+fn run_cost<P: Platform>(platform: &mut P, req: CostRequest) -> CostReport {
+    let n = req.iterations;
+    let (result, ticks) = match req.workload {
+        Workload::Xorshift => platform.measure(|| {
+            let mut x = black_box(0x2545_F491u32);
+            for _ in 0..black_box(n) {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+            }
+            black_box(x)
+        }),
+        Workload::FloatMac => platform.measure(|| {
+            let (a, b) = (black_box(0.999_f32), black_box(0.5_f32));
+            let mut acc = black_box(1.0_f32);
+            for _ in 0..black_box(n) {
+                acc = acc * a + b;
+            }
+            black_box(acc).to_bits()
+        }),
+        Workload::EncodeFrame => {
+            let mut payload = [0u8; MAX_PAYLOAD];
+            for (i, p) in payload.iter_mut().enumerate() {
+                *p = (i % 251) as u8;
+            }
+            let mut wire = [0u8; MAX_WIRE_LEN];
+            platform.measure(|| {
+                let mut sum = 0u32;
+                for i in 0..black_box(n) {
+                    let len = telemetry::encode_frame(0x80, i as u16, &payload, &mut wire)
+                        .unwrap_or_default();
+                    sum = sum.wrapping_add(len as u32);
+                }
+                black_box(sum)
+            })
+        }
+        // `Empty` and workloads added later: the stopwatch overhead alone.
+        _ => platform.measure(|| black_box(0u32)),
+    };
+    CostReport {
+        workload: req.workload,
+        iterations: n,
+        ticks,
+        result,
+    }
+}
