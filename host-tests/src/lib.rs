@@ -1,5 +1,12 @@
 //! Host-side (std) companion of the `rotorid` core: plant simulator, experiments, log format,
 //! independent reference implementation and the firmware link driver.
 pub mod firmware_link;
+pub mod golden;
 pub mod plant;
 pub mod reference;
+
+/// The code blocks of the repository's README, compiled and run as doc tests so the README
+/// stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;
