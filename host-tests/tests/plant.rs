@@ -397,3 +397,18 @@ fn excitation_is_clamped_to_full_stick() {
     .expect("bounded");
     assert!(s.iter().all(|x| x.sticks.col == 1.0));
 }
+
+/// The stepping API: own sticks, pilot bypassed. Trim sticks hold the hover.
+#[test]
+fn flight_stepper_with_own_sticks() {
+    let mut f = Flight::new(&FlightConfig::ideal(1.0)).expect("valid");
+    let trim = *f.trim();
+    for k in 0..50 {
+        assert_eq!(f.sample_index(), k);
+        let s = f.step_with_sticks(trim.sticks).expect("bounded");
+        assert_eq!(s.sticks, trim.sticks);
+        assert!((s.roll - trim.roll).abs() < 1e-9 && s.v_north.abs() < 1e-9);
+    }
+    assert!((f.time() - 1.0).abs() < 1e-12);
+    assert!(f.state().omega.amax() < 1e-9);
+}

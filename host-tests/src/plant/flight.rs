@@ -9,8 +9,8 @@ use super::dynamics::rk4_step;
 use super::params::XCell60;
 use super::pilot::{HoverPilot, PilotGains};
 use super::sensors::{jitter_steps, measure, Gust, NoiseStd, SensorSample, Turbulence};
-use super::trim::trim_hover;
-use super::{Channel, PlantError};
+use super::trim::{trim_hover, HoverTrim};
+use super::{Channel, PlantError, State, Sticks};
 
 /// ChaCha stream numbers: each random source has its own stream of the seed, so turning one
 /// option on or off does not change the others' draws.
@@ -191,6 +191,117 @@ fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
     r
 }
 
+/// A flight in progress, for callers that choose the sticks themselves (for example a
+/// controller in the loop). [`simulate`] is a loop over [`Flight::step`].
+///
+/// Each step records the sample at the current instant, holds the sticks, and integrates to
+/// the next (jittered) instant.
+#[derive(Debug, Clone)]
+pub struct Flight {
+    config: FlightConfig,
+    trim: HoverTrim,
+    state: State,
+    pilot: HoverPilot,
+    period: i64,
+    max_jitter: i64,
+    /// Index of the next sample.
+    k: u64,
+    /// Integration-grid index of `state`.
+    grid_step: i64,
+    rng_jitter: ChaCha8Rng,
+    rng_noise: ChaCha8Rng,
+    rng_turb: ChaCha8Rng,
+    gust: Option<Gust>,
+}
+
+impl Flight {
+    /// Trims at hover and places the helicopter there at t = 0.
+    pub fn new(config: &FlightConfig) -> Result<Self, PlantError> {
+        let (period, max_jitter, _) = config.grid()?;
+        let trim = trim_hover(&config.params, config.initial_yaw)?;
+        let mut rng_turb = rng(config.seed, STREAM_TURBULENCE);
+        let gust = config
+            .turbulence
+            .map(|cfg| Gust::new(cfg, config.dt, &mut rng_turb));
+        Ok(Self {
+            config: *config,
+            trim,
+            state: trim.state,
+            pilot: HoverPilot::new(config.gains, &trim.state),
+            period,
+            max_jitter,
+            k: 0,
+            grid_step: 0,
+            rng_jitter: rng(config.seed, STREAM_JITTER),
+            rng_noise: rng(config.seed, STREAM_NOISE),
+            rng_turb,
+            gust,
+        })
+    }
+
+    /// The hover trim the flight started from.
+    pub fn trim(&self) -> &HoverTrim {
+        &self.trim
+    }
+
+    /// The true (noise-free) plant state at the current instant.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// Current time (s).
+    pub fn time(&self) -> f64 {
+        self.grid_step as f64 * self.config.dt
+    }
+
+    /// Index of the sample the next step records.
+    pub fn sample_index(&self) -> u64 {
+        self.k
+    }
+
+    /// Records the current instant with the pilot's sticks (the excited channel, if any, at
+    /// `trim + excitation.value`), then flies to the next instant.
+    pub fn step(&mut self, excitation: Excitation) -> Result<SensorSample, PlantError> {
+        let value = if excitation.value.is_finite() {
+            excitation.value
+        } else {
+            0.0
+        };
+        let sticks = self
+            .pilot
+            .command(&self.state, &self.trim, excitation.channel, value);
+        self.step_with_sticks(sticks)
+    }
+
+    /// Records the current instant with `sticks` (clamped to [−1, 1]), then flies to the next
+    /// instant with them held. The pilot is bypassed.
+    pub fn step_with_sticks(&mut self, sticks: Sticks) -> Result<SensorSample, PlantError> {
+        let sticks = sticks.clamped();
+        let dt = self.config.dt;
+        let now = self.time();
+        let rng_noise = &mut self.rng_noise;
+        let noise = self.config.noise.as_ref().map(|n| (n, rng_noise));
+        let sample = measure(now, &self.state, sticks, noise);
+        self.k += 1;
+        // Next instant: nominal grid point plus jitter, so the mean rate stays exact. The
+        // product stays far inside i64 for any flight that could run.
+        let target =
+            self.k as i64 * self.period + jitter_steps(self.max_jitter, &mut self.rng_jitter);
+        let p = &self.config.params;
+        let pitch = p.blade_pitch(&sticks);
+        while self.grid_step < target {
+            let wind = self.gust.as_ref().map_or_else(Vector3::zeros, Gust::wind);
+            self.state = rk4_step(p, &self.state, &pitch, &wind, dt);
+            if let Some(g) = self.gust.as_mut() {
+                g.step(&mut self.rng_turb);
+            }
+            self.grid_step += 1;
+            check_envelope(&self.state, &self.config.limits, self.time())?;
+        }
+        Ok(sample)
+    }
+}
+
 /// Flies one flight: starts trimmed at hover, runs the pilot at each sample instant (sticks
 /// held until the next), integrates with RK4 on the `dt` grid and records a [`SensorSample`]
 /// at each instant. `excitation(k, t)` is called once per sample, in order, with the sample
@@ -202,50 +313,17 @@ pub fn simulate(
     config: &FlightConfig,
     excitation: &mut dyn FnMut(u64, f64) -> Excitation,
 ) -> Result<Vec<SensorSample>, PlantError> {
-    let (period, max_jitter, n_samples) = config.grid()?;
-    let p = &config.params;
-    let dt = config.dt;
-    let trim = trim_hover(p, config.initial_yaw)?;
-    let mut state = trim.state;
-    let mut pilot = HoverPilot::new(config.gains, &state);
-    let mut rng_jitter = rng(config.seed, STREAM_JITTER);
-    let mut rng_noise = rng(config.seed, STREAM_NOISE);
-    let mut rng_turb = rng(config.seed, STREAM_TURBULENCE);
-    let mut gust = config
-        .turbulence
-        .map(|cfg| Gust::new(cfg, dt, &mut rng_turb));
-
-    let capacity = usize::try_from(n_samples).unwrap_or(0);
-    let mut out = Vec::with_capacity(capacity);
-    let mut step: i64 = 0;
+    let (_, _, n_samples) = config.grid()?;
+    let mut flight = Flight::new(config)?;
+    let mut out = Vec::with_capacity(usize::try_from(n_samples).unwrap_or(0));
     for k in 0..n_samples {
-        let t = step as f64 * dt;
-        let e = excitation(k, t);
-        let value = if e.value.is_finite() { e.value } else { 0.0 };
-        let sticks = pilot.command(&state, &trim, e.channel, value);
-        let noise = config.noise.as_ref().map(|n| (n, &mut rng_noise));
-        out.push(measure(t, &state, sticks, noise));
-        if k + 1 == n_samples {
-            break;
-        }
-        // Next instant: nominal grid point plus jitter, so the mean rate stays exact.
-        // k < n_samples ≤ 1e9 (checked in `grid`), so the cast is exact.
-        let target = (k + 1) as i64 * period + jitter_steps(max_jitter, &mut rng_jitter);
-        let pitch = p.blade_pitch(&sticks);
-        while step < target {
-            let wind = gust.as_ref().map_or_else(Vector3::zeros, Gust::wind);
-            state = rk4_step(p, &state, &pitch, &wind, dt);
-            if let Some(g) = gust.as_mut() {
-                g.step(&mut rng_turb);
-            }
-            step += 1;
-            check_envelope(&state, &config.limits, step as f64 * dt)?;
-        }
+        let e = excitation(k, flight.time());
+        out.push(flight.step(e)?);
     }
     Ok(out)
 }
 
-fn check_envelope(state: &super::State, limits: &Limits, t: f64) -> Result<(), PlantError> {
+fn check_envelope(state: &State, limits: &Limits, t: f64) -> Result<(), PlantError> {
     if !state.is_finite() {
         return Err(PlantError::Diverged {
             t,

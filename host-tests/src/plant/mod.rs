@@ -30,7 +30,7 @@ pub mod trim;
 use serde::{Deserialize, Serialize};
 
 pub use dynamics::{derivative, rk4_step, Aero, BladePitch, State, StateDot};
-pub use flight::{simulate, verification_excitation, Excitation, FlightConfig, Limits};
+pub use flight::{simulate, verification_excitation, Excitation, Flight, FlightConfig, Limits};
 pub use params::{RotorBlades, StickMap, XCell60};
 pub use pilot::{HoverPilot, PilotGains};
 pub use rotor::{solve_rotor, RotorSolution};

@@ -21,14 +21,17 @@ use super::{Channel, Sticks};
 
 /// Feedback gains of [`HoverPilot`]. Stick units are normalised (–).
 ///
-/// Design notes (linearised hover model of the default parameters): one unit of cyclic gives
-/// ≈ 45 rad/s² of pitch or roll acceleration and the rotor damps rates with ≈ 26 /s (pitch)
-/// and ≈ 49 /s (roll), so attitude gains of 1.5–2 /rad place the slow attitude pole near
-/// 3–4 rad/s without adding much to the lightly damped (≈ 14–20 rad/s) body-flap mode, which
-/// the 50 Hz zero-order hold would otherwise destabilise. The velocity loop is kept ≈ 5×
-/// slower than the attitude loop. One unit of collective gives ≈ 27 m/s² of vertical
-/// acceleration; one unit of pedal ≈ 39 rad/s² of yaw acceleration against ≈ 2 /s natural
-/// yaw damping.
+/// Design notes (linearised hover model of the default parameters, checked numerically):
+/// one unit of cyclic gives ≈ 1.75 rad/s of flapping rate, i.e. ≈ 45 rad/s² of pitch or
+/// ≈ 85 rad/s² of roll acceleration once the flapping settles, and the rotor damps the rates
+/// strongly; the coupled body-flap modes sit at ≈ −4.2 ± 14j (pitch) and −4.2 ± 20j (roll).
+/// Attitude gains of 1.5–2 /rad place the slow attitude pole near 3–4 rad/s without eroding
+/// the damping of those modes, which the 50 Hz zero-order hold would otherwise destabilise.
+/// The velocity loop is kept ≈ 5× slower than the attitude loop. One unit of collective gives
+/// ≈ 27 m/s² of vertical acceleration against ≈ 0.8 /s natural heave damping; one unit of pedal
+/// ≈ 39 rad/s² of yaw acceleration against ≈ 1.1 /s natural yaw damping. The heading hold
+/// (≈ 2.4 rad/s, damping ≈ 0.8) is far below the pedal sweep band but holds the heading
+/// against the main-rotor torque change with speed (≈ 10 % of hover torque at 5–10 m/s).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PilotGains {
     /// Longitudinal cyclic per pitch-attitude error (1/rad).
@@ -64,8 +67,8 @@ impl Default for PilotGains {
             max_tilt: 0.2,
             vertical_speed: 0.1,
             altitude: 0.04,
-            yaw_rate: 0.05,
-            heading: 0.05,
+            yaw_rate: 0.07,
+            heading: 0.15,
         }
     }
 }
