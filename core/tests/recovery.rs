@@ -20,27 +20,55 @@ fn gauss(x: f64, c: f64, s: f64) -> f64 {
     (-0.5 * ((x - c) / s).powi(2)).exp()
 }
 fn left(x: f64, c: f64, s: f64) -> f64 {
-    if x <= c { 1.0 } else { gauss(x, c, s) }
+    if x <= c {
+        1.0
+    } else {
+        gauss(x, c, s)
+    }
 }
 fn right(x: f64, c: f64, s: f64) -> f64 {
-    if x >= c { 1.0 } else { gauss(x, c, s) }
+    if x >= c {
+        1.0
+    } else {
+        gauss(x, c, s)
+    }
 }
 
 /// Truth: 3 × 2 rules, 2 consequent terms; θ in the paper's order `[α_{·,1} …, α_{·,2} …]`.
-const THETA: [f64; 12] = [0.8, -0.3, 1.5, 0.2, -1.1, 0.6, 2.0, 0.5, -0.7, 1.2, 0.0, -2.5];
+const THETA: [f64; 12] = [
+    0.8, -0.3, 1.5, 0.2, -1.1, 0.6, 2.0, 0.5, -0.7, 1.2, 0.0, -2.5,
+];
 
 fn truth(x: [f64; 2], d: [f64; 2]) -> f64 {
-    let a = [left(x[0], -1.0, 1.0), gauss(x[0], 0.0, 1.0), right(x[0], 1.0, 1.0)];
+    let a = [
+        left(x[0], -1.0, 1.0),
+        gauss(x[0], 0.0, 1.0),
+        right(x[0], 1.0, 1.0),
+    ];
     let b = [left(x[1], -0.5, 1.0), right(x[1], 0.5, 1.0)];
-    let mu: Vec<f64> = a.iter().flat_map(|&p| b.iter().map(move |&q| p * q)).collect();
+    let mu: Vec<f64> = a
+        .iter()
+        .flat_map(|&p| b.iter().map(move |&q| p * q))
+        .collect();
     let sum: f64 = mu.iter().sum();
-    (0..6).map(|i| mu[i] / sum * (THETA[i] * d[0] + THETA[6 + i] * d[1])).sum()
+    (0..6)
+        .map(|i| mu[i] / sum * (THETA[i] * d[0] + THETA[6 + i] * d[1]))
+        .sum()
 }
 
 fn model<T: rotorid::Real>(cfg: RlsConfig<T>) -> TsRls<T, 2, 6, 2, 12, 78> {
-    let l = |c: f64, s: f64| LeftShoulder { centre: T::lit(c), spread: T::lit(s) };
-    let g = |c: f64, s: f64| Gaussian { centre: T::lit(c), spread: T::lit(s) };
-    let r = |c: f64, s: f64| RightShoulder { centre: T::lit(c), spread: T::lit(s) };
+    let l = |c: f64, s: f64| LeftShoulder {
+        centre: T::lit(c),
+        spread: T::lit(s),
+    };
+    let g = |c: f64, s: f64| Gaussian {
+        centre: T::lit(c),
+        spread: T::lit(s),
+    };
+    let r = |c: f64, s: f64| RightShoulder {
+        centre: T::lit(c),
+        spread: T::lit(s),
+    };
     let rules = RuleBase::new([
         rotorid::hover::table3::sets(&[l(-1.0, 1.0), g(0.0, 1.0), r(1.0, 1.0)]),
         rotorid::hover::table3::sets(&[l(-0.5, 1.0), r(0.5, 1.0)]),
@@ -60,7 +88,11 @@ fn ts_model_recovers_known_consequents() {
             m.update(&x, &[d], &[truth(x, d)]).unwrap();
         }
         for (i, (&t, &e)) in m.rls().parameters().iter().zip(THETA.iter()).enumerate() {
-            assert!((t - e).abs() < 1e-6, "{:?} θ[{i}] = {t}, truth {e}", cfg.algorithm);
+            assert!(
+                (t - e).abs() < 1e-6,
+                "{:?} θ[{i}] = {t}, truth {e}",
+                cfg.algorithm
+            );
         }
     }
     // f32 with the robust form: close, limited by f32 rounding of the data.
@@ -70,7 +102,8 @@ fn ts_model_recovers_known_consequents() {
         let x = [rng.u() * 3.0, rng.u() * 3.0];
         let d = [rng.u(), rng.u()];
         let y = truth(x, d);
-        m.update(&x.map(|v| v as f32), &[d.map(|v| v as f32)], &[y as f32]).unwrap();
+        m.update(&x.map(|v| v as f32), &[d.map(|v| v as f32)], &[y as f32])
+            .unwrap();
     }
     for (&t, &e) in m.rls().parameters().iter().zip(THETA.iter()) {
         assert!((f64::from(t) - e).abs() < 2e-3, "{t} vs {e}");
@@ -91,7 +124,12 @@ fn plain_identifier_recovers_eqs_19_and_26() {
         attitude: Attitude::default(),
         velocity: [0.0; 3],
         rates: [10.0, -5.0, 3.0],
-        controls: Controls { col: 0.5, ped: 0.0, lon: 0.0, lat: 0.0 },
+        controls: Controls {
+            col: 0.5,
+            ped: 0.0,
+            lon: 0.0,
+            lat: 0.0,
+        },
     };
     for _ in 0..3000 {
         let [q, r, p] = s.rates;
@@ -102,7 +140,11 @@ fn plain_identifier_recovers_eqs_19_and_26() {
             lon: (-0.1 * q / (g1 * col) + 0.3 * rng.u()).clamp(-1.0, 1.0),
             lat: (-0.1 * p / (g3 * col) + 0.3 * rng.u()).clamp(-1.0, 1.0),
         };
-        s.attitude = Attitude { roll: 0.3 * rng.u(), pitch: 0.3 * rng.u(), yaw: 3.0 * rng.u() };
+        s.attitude = Attitude {
+            roll: 0.3 * rng.u(),
+            pitch: 0.3 * rng.u(),
+            yaw: 3.0 * rng.u(),
+        };
         id.step(&s).unwrap();
         let u = s.controls;
         let e = rotorid::hover::rotor_axis(s.attitude.roll, s.attitude.pitch, s.attitude.yaw);
@@ -136,6 +178,9 @@ fn plain_identifier_recovers_eqs_19_and_26() {
     ];
     for (got, want) in pairs {
         let got = got.unwrap();
-        assert!((got - want).abs() < 1e-6 * (1.0 + want.abs()), "{got} vs {want}");
+        assert!(
+            (got - want).abs() < 1e-6 * (1.0 + want.abs()),
+            "{got} vs {want}"
+        );
     }
 }
