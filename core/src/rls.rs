@@ -142,6 +142,9 @@ pub struct RlsCounters<T> {
     pub last_innovation: T,
     /// Steps in which forgetting was suspended by the trace bound.
     pub windup_guards: u32,
+    /// Covariance-form updates skipped because P had lost positive definiteness (a
+    /// non-positive `λ + ξᵀPξ`) or the step was not finite. Always 0 for the U-D form.
+    pub numerical_skips: u32,
 }
 
 /// Recursive least squares over `N` parameters with `NP = N(N+1)/2` packed covariance entries.
@@ -179,6 +182,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 updates: 0,
                 last_innovation: T::zero(),
                 windup_guards: 0,
+                numerical_skips: 0,
             },
         };
         rls.reset();
@@ -218,6 +222,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             updates: 0,
             last_innovation: T::zero(),
             windup_guards: 0,
+            numerical_skips: 0,
         };
     }
 
@@ -405,7 +410,10 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// Imports a state exported by an estimator of the same algorithm and size (warm start).
-    /// The state is checked (finite, non-negative variances); on `Err` nothing changed.
+    /// The state is checked: every entry finite, every diagonal entry at most
+    /// [`COVARIANCE_LIMIT`], and for the U-D form every `D_j ≥ 0` (an invariant of that form;
+    /// the covariance form in f32 may legitimately have lost definiteness). On `Err` nothing
+    /// changed.
     pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
         if state.algorithm != self.config.algorithm {
             return Err(Error::Incompatible);
@@ -424,7 +432,8 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         for j in 0..N {
             let k = col(j) + j;
             let d = state.factor.get(k).copied().unwrap_or_else(T::zero);
-            if d < T::zero() || d > limit {
+            let negative = d < T::zero() && state.algorithm == Algorithm::UdFactor;
+            if negative || d > limit {
                 return Err(Error::OutOfRange(Quantity::Covariance(k as u16)));
             }
         }
@@ -448,28 +457,40 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         }
         let nz = nz.get(..nnz).unwrap_or(&[]);
         let e = y - dot(xi, &self.theta);
-        match self.config.algorithm {
+        let applied = match self.config.algorithm {
             Algorithm::Covariance => self.covariance_update(xi, nz, e),
-            Algorithm::UdFactor => self.ud_update(xi, nz, e),
+            Algorithm::UdFactor => {
+                self.ud_update(xi, nz, e);
+                true
+            }
+        };
+        if applied {
+            self.counters.updates = self.counters.updates.wrapping_add(1);
         }
-        self.counters.updates = self.counters.updates.wrapping_add(1);
     }
 
-    /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`.
-    fn covariance_update(&mut self, xi: &[T; N], nz: &[u16], e: T) {
+    /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
+    /// update was applied (see [`RlsCounters::numerical_skips`]).
+    fn covariance_update(&mut self, xi: &[T; N], nz: &[u16], e: T) -> bool {
         let lambda = self.config.forgetting;
-        // g = P ξ over the non-zero ξ_j only.
+        // g = P ξ over the non-zero ξ_j only, a column of the packed triangle at a time:
+        // rows i ≤ j are contiguous in column j, rows i > j are P(j, i) in later columns.
+        // Each g_i still sums its terms in ascending j.
         let mut g = [T::zero(); N];
-        for (i, gi) in g.iter_mut().enumerate() {
-            let mut s = T::zero();
-            for &j in nz {
-                let j = usize::from(j);
-                let idx = if i <= j { col(j) + i } else { col(i) + j };
-                let p = self.factor.get(idx).copied().unwrap_or_else(T::zero);
-                let x = xi.get(j).copied().unwrap_or_else(T::zero);
-                s += p * x;
+        for &j in nz {
+            let j = usize::from(j);
+            let xj = xi.get(j).copied().unwrap_or_else(T::zero);
+            let start = col(j);
+            if let Some(column) = self.factor.get(start..=start + j) {
+                for (gi, &p) in g.iter_mut().zip(column) {
+                    *gi += p * xj;
+                }
             }
-            *gi = s;
+            let mut idx = start + j; // P(j, i) for i = j + 1 is at col(j + 1) + j
+            for (i, gi) in g.iter_mut().enumerate().skip(j + 1) {
+                idx += i;
+                *gi += self.factor.get(idx).copied().unwrap_or_else(T::zero) * xj;
+            }
         }
         let mut denom = lambda;
         for &j in nz {
@@ -477,9 +498,21 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             denom += xi.get(j).copied().unwrap_or_else(T::zero)
                 * g.get(j).copied().unwrap_or_else(T::zero);
         }
+        // In f32 with a large α this form can lose positive definiteness (the reason the U-D
+        // form exists): an update whose denominator is not positive, or whose step is not
+        // finite, is skipped and counted rather than allowed to produce ∞ or NaN.
+        if !(denom > T::zero() && denom.is_finite()) {
+            self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
+            return false;
+        }
+        // K = g / (λ + ξᵀPξ), divided entry by entry exactly as the paper writes it.
         let mut k = [T::zero(); N];
-        for (ki, &gi) in k.iter_mut().zip(g.iter()) {
+        for ((ki, &gi), &t) in k.iter_mut().zip(g.iter()).zip(self.theta.iter()) {
             *ki = gi / denom;
+            if !(t + *ki * e).is_finite() {
+                self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
+                return false;
+            }
         }
         // Forgetting with the windup guard: trace(P⁺)/λ must stay within the bound.
         let mut scale = None;
@@ -518,6 +551,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         for (t, &ki) in self.theta.iter_mut().zip(k.iter()) {
             *t += ki * e;
         }
+        true
     }
 
     /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
@@ -543,6 +577,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         // b accumulates the unnormalised gain U D f = P ξ.
         let mut b = [T::zero(); N];
         let mut alpha = lambda;
+        let mut inv_alpha = T::one() / lambda;
         for j in 0..N {
             let fj = f.get(j).copied().unwrap_or_else(T::zero);
             if fj == T::zero() {
@@ -550,8 +585,11 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             }
             let vj = v.get(j).copied().unwrap_or_else(T::zero);
             let alpha_prev = alpha;
+            let inv_prev = inv_alpha;
             alpha = alpha_prev + fj * vj;
-            let p = -fj / alpha_prev;
+            // One division per column: 1/α_j serves this column's D update and the next p.
+            inv_alpha = T::one() / alpha;
+            let p = -fj * inv_prev;
             let start = col(j);
             let Some(column) = self.factor.get_mut(start..=start + j) else {
                 continue;
@@ -559,7 +597,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             let Some((dj, above)) = column.split_last_mut() else {
                 continue;
             };
-            *dj *= alpha_prev / alpha;
+            *dj *= alpha_prev * inv_alpha;
             for (u, bi) in above.iter_mut().zip(b.iter_mut()) {
                 let u_old = *u;
                 *u = u_old + *bi * p;
@@ -569,8 +607,10 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 *bj = vj;
             }
         }
+        // K = b/α; θ += K e, with the scalar e/α formed once.
+        let gain = e * inv_alpha;
         for (t, &bi) in self.theta.iter_mut().zip(b.iter()) {
-            *t += bi / alpha * e;
+            *t += bi * gain;
         }
         if lambda < T::one() {
             if self.trace() / lambda <= self.config.max_trace {

@@ -163,12 +163,22 @@ fn export_import_continues_bit_for_bit() {
         );
     }
     assert_eq!(a.export(), b.export());
-    // A state of the other algorithm, or with a negative variance, is refused.
+    // A state of the other algorithm, a negative D in a U-D state, or a NaN, is refused.
     let mut c = Rls::<f32, 6, 21>::new(RlsConfig::paper(1e6)).unwrap();
     assert_eq!(c.import(&a.export()), Err(Error::Incompatible));
-    let mut bad = c.export();
+    let mut bad = a.export();
     bad.factor[0] = -1.0;
-    assert!(c.import(&bad).is_err());
+    assert_eq!(
+        b.import(&bad),
+        Err(Error::OutOfRange(Quantity::Covariance(0)))
+    );
+    let mut bad = c.export();
+    bad.factor[4] = f32::NAN;
+    assert_eq!(
+        c.import(&bad),
+        Err(Error::NonFinite(Quantity::Covariance(4)))
+    );
+    assert_eq!(b.export(), a.export());
 }
 
 #[test]

@@ -42,6 +42,10 @@ use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion};
 use flight_solver::rls::{CovarianceGuards, InverseQrRls, RlsParallel};
 use host_tests::dense_rls::{DenseRls, TsLikeStream};
+use host_tests::golden;
+use rotorid::hover::HoverSample;
+use rotorid::rls::{Rls, RlsConfig};
+use rotorid::{HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier};
 
 /// Samples in the stream, and updates between two resets of the estimator.
 pub const STREAM_LEN: usize = 1000;
@@ -119,7 +123,7 @@ impl<const N: usize> FlightSolverRls<N> {
 }
 
 /// All rows at one `N`, in the shared group (benchmark ids `rls_update/<row>/<N>`).
-fn bench_n<const N: usize>(g: &mut BenchmarkGroup<'_, WallTime>) {
+fn bench_n<const N: usize, const NP: usize>(g: &mut BenchmarkGroup<'_, WallTime>) {
     let stream = bench_stream::<N>();
     let s64 = &stream.samples;
     let s32 = stream.samples_f32();
@@ -186,10 +190,101 @@ fn bench_n<const N: usize>(g: &mut BenchmarkGroup<'_, WallTime>) {
         },
     );
 
-    // rotorid rows go here, e.g.
-    // bench_row(g, "rotorid-<form>", N, &s32, || <core estimator>::new(..), |r, (xi, y)| {
-    //     r.update(xi, *y);
-    // });
+    // rotorid's RLS forms (packed covariance, zero regressor entries skipped).
+    let r32 = stream.arrays_f32();
+    let r64 = stream.arrays_f64();
+    for (name, cfg) in [
+        ("rotorid-paper-f32", RlsConfig::paper(ALPHA as f32)),
+        ("rotorid-ud-f32", RlsConfig::robust(ALPHA as f32)),
+    ] {
+        bench_row(
+            g,
+            name,
+            N,
+            &r32,
+            || Rls::<f32, N, NP>::new(cfg).expect("valid config"),
+            |r, (xi, y)| {
+                let _ = r.update(xi, *y);
+            },
+        );
+    }
+    for (name, cfg) in [
+        ("rotorid-paper-f64", RlsConfig::paper(ALPHA)),
+        ("rotorid-ud-f64", RlsConfig::robust(ALPHA)),
+    ] {
+        bench_row(
+            g,
+            name,
+            N,
+            &r64,
+            || Rls::<f64, N, NP>::new(cfg).expect("valid config"),
+            |r, (xi, y)| {
+                let _ = r.update(xi, *y);
+            },
+        );
+    }
+}
+
+/// One full `HoverIdentifier` step (all four models learn and predict), over the golden input
+/// stream (it crosses the hover region and Table 3's shoulders).
+fn bench_hover_step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("hover_step");
+    g.warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(20);
+    let inputs = golden::inputs(STREAM_LEN, golden::SEED);
+    let in64: Vec<HoverSample<f64>> = inputs.iter().map(golden::convert::<f64>).collect();
+    bench_row(
+        &mut g,
+        "fuzzy-ud-f32",
+        0,
+        &inputs,
+        || PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::default()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "fuzzy-paper-f32",
+        0,
+        &inputs,
+        || PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::paper()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "fuzzy-ud-f64",
+        0,
+        &in64,
+        || PaperFuzzyIdentifier::<f64>::paper_fuzzy(HoverConfig::default()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "fuzzy-paper-f64",
+        0,
+        &in64,
+        || PaperFuzzyIdentifier::<f64>::paper_fuzzy(HoverConfig::paper()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "plain-ud-f32",
+        0,
+        &inputs,
+        || PaperPlainIdentifier::<f32>::paper_plain(HoverConfig::default()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    g.finish();
 }
 
 fn benches(c: &mut Criterion) {
@@ -197,12 +292,12 @@ fn benches(c: &mut Criterion) {
     g.warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(2))
         .sample_size(20);
-    bench_n::<2>(&mut g);
-    bench_n::<18>(&mut g);
-    bench_n::<36>(&mut g);
-    bench_n::<54>(&mut g);
+    bench_n::<2, 3>(&mut g);
+    bench_n::<18, 171>(&mut g);
+    bench_n::<36, 666>(&mut g);
+    bench_n::<54, 1485>(&mut g);
     g.finish();
 }
 
-criterion_group!(rls, benches);
+criterion_group!(rls, benches, bench_hover_step);
 criterion_main!(rls);

@@ -79,7 +79,11 @@ proptest! {
         let p: Vec<Vec<f64>> = cov.covariance_matrix().iter().map(|r| r.to_vec()).collect();
         prop_assert!(positive_definite(&p), "covariance form, f64");
         let p: Vec<Vec<f64>> = ud32.covariance_matrix().iter().map(|r| r.iter().map(|&v| f64::from(v)).collect()).collect();
-        for i in 0..8 { for j in 0..8 { prop_assert_eq!(p[i][j], p[j][i]); } }
+        for (i, row) in p.iter().enumerate() {
+            for (j, &x) in row.iter().enumerate() {
+                prop_assert_eq!(x, p[j][i]);
+            }
+        }
         prop_assert!(positive_definite(&p), "U-D form, f32");
     }
 

