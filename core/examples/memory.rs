@@ -2,7 +2,9 @@
 //!
 //! Run: `cargo run -p rotorid --example memory`
 use core::mem::size_of;
-use rotorid::{PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
+};
 
 fn main() {
     println!("| identifier | f32 (bytes) | f64 (bytes) |");
@@ -16,5 +18,15 @@ fn main() {
         "| PaperPlainIdentifier | {} | {} |",
         size_of::<PaperPlainIdentifier<f32>>(),
         size_of::<PaperPlainIdentifier<f64>>()
+    );
+    println!(
+        "| ExtendedFuzzyIdentifier | {} | {} |",
+        size_of::<ExtendedFuzzyIdentifier<f32>>(),
+        size_of::<ExtendedFuzzyIdentifier<f64>>()
+    );
+    println!(
+        "| ExtendedPlainIdentifier | {} | {} |",
+        size_of::<ExtendedPlainIdentifier<f32>>(),
+        size_of::<ExtendedPlainIdentifier<f64>>()
     );
 }

@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod convergence;
 pub mod error;
 pub mod frames;
 pub mod hover;
@@ -16,11 +17,11 @@ pub mod ts;
 
 pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
-    HoverConfig, HoverIdentifier, HoverSample, HoverState, PaperFuzzyIdentifier,
-    PaperPlainIdentifier,
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample,
+    HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier,
 };
 pub use membership::MembershipFunction;
 pub use rls::{Algorithm, Rls, RlsConfig, RlsState};
 pub use rule_base::RuleBase;
 pub use scalar::Real;
-pub use ts::TsRls;
+pub use ts::{Scaling, TsRls};

@@ -14,7 +14,10 @@ use alloc::string::String;
 use alloc::vec::Vec;
 
 use rotorid::hover::{Attitude, Controls, HoverSample, StateModel};
-use rotorid::{HoverConfig, HoverIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier, Real};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier,
+    PaperFuzzyIdentifier, PaperPlainIdentifier, Real,
+};
 
 /// xorshift64: deterministic integers.
 struct XorShift(u64);
@@ -210,6 +213,14 @@ pub fn cases() -> Vec<(&'static str, String)> {
     match PaperFuzzyIdentifier::<f64>::paper_fuzzy(HoverConfig::default()) {
         Ok(id) => v.push(("golden_fuzzy_f64_ud.txt", run(id, &inp))),
         Err(e) => v.push(("golden_fuzzy_f64_ud.txt", format!("{e}"))),
+    }
+    match ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(HoverConfig::default()) {
+        Ok(id) => v.push(("golden_extended_fuzzy_f32_ud.txt", run(id, &inp))),
+        Err(e) => v.push(("golden_extended_fuzzy_f32_ud.txt", format!("{e}"))),
+    }
+    match ExtendedPlainIdentifier::<f32>::extended_plain(HoverConfig::default()) {
+        Ok(id) => v.push(("golden_extended_plain_f32_ud.txt", run(id, &inp))),
+        Err(e) => v.push(("golden_extended_plain_f32_ud.txt", format!("{e}"))),
     }
     v
 }

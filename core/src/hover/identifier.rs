@@ -9,6 +9,21 @@ use crate::hover::table3;
 use crate::rls::RlsConfig;
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
+use crate::ts::Scaling;
+
+/// Whether the models divide their terms by nominal scales (see [`crate::ts::Scaling`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum RegressorScaling {
+    /// Raw physical units, as the paper: bit-identical to an implementation without scaling.
+    None,
+    /// The nominal miniature-helicopter scales of
+    /// [`VelocityStructure::helicopter_scaling`] and [`RateStructure::helicopter_scaling`]:
+    /// a well-conditioned problem in f32. Parameters are still reported in physical units by
+    /// [`TsRls::physical_parameter`](crate::TsRls::physical_parameter).
+    Helicopter,
+}
 
 /// Settings shared by the four models of a [`HoverIdentifier`].
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -21,25 +36,52 @@ pub struct HoverConfig<T> {
     pub sample_period_us: u32,
     /// Accepted deviation of one interval from ΔT (µs), for timing jitter.
     pub period_tolerance_us: u32,
+    /// Regressor scaling of every model.
+    pub scaling: RegressorScaling,
 }
 
 impl<T: Real> Default for HoverConfig<T> {
-    /// The robust (U-D) RLS with α = 10⁶, 50 Hz (20 000 µs) ± 50 %.
+    /// The flight settings: robust (U-D) RLS with α = 10⁶, helicopter regressor scaling,
+    /// 50 Hz (20 000 µs) ± 50 %.
     fn default() -> Self {
         Self {
             rls: RlsConfig::default(),
             sample_period_us: 20_000,
             period_tolerance_us: 10_000,
+            scaling: RegressorScaling::Helicopter,
         }
     }
 }
 
 impl<T: Real> HoverConfig<T> {
-    /// The paper's settings: covariance-form RLS, λ = 1, α = 10⁶, 50 Hz ± 50 %.
+    /// The paper's settings: covariance-form RLS, λ = 1, α = 10⁶, no scaling, 50 Hz ± 50 %.
     pub fn paper() -> Self {
         Self {
             rls: RlsConfig::paper(T::lit(1e6)),
+            scaling: RegressorScaling::None,
             ..Self::default()
+        }
+    }
+
+    /// The paper's estimator computed robustly: U-D RLS, α = 10⁶, no scaling.
+    pub fn paper_robust() -> Self {
+        Self {
+            scaling: RegressorScaling::None,
+            ..Self::default()
+        }
+    }
+
+    fn velocity_scaling<const D: usize>(&self, s: VelocityStructure) -> Scaling<T, D> {
+        match self.scaling {
+            RegressorScaling::None => Scaling::unit(),
+            RegressorScaling::Helicopter => s.helicopter_scaling(),
+        }
+    }
+
+    fn rate_scaling<const D: usize>(&self, s: RateStructure) -> Scaling<T, D> {
+        match self.scaling {
+            RegressorScaling::None => Scaling::unit(),
+            RegressorScaling::Helicopter => s.helicopter_scaling(),
         }
     }
 
@@ -114,26 +156,90 @@ pub type PaperPlainIdentifier<T> = HoverIdentifier<
     RateModel<T, 1, 2, 2, 3>,
 >;
 
+/// The extended structure (damping and trim terms, [`RateStructure::Extended`],
+/// [`VelocityStructure::Extended`]) with fuzzy rule bases: Table 3's sets for the rates
+/// (18, 9, 9 rules × 4 terms) and Table 3's `ṽ_y` sets for the velocity (3 rules × 7 terms;
+/// the thrust per unit collective varies with the vertical inflow, while drag is linear).
+pub type ExtendedFuzzyIdentifier<T> = HoverIdentifier<
+    T,
+    VelocityModel<T, 3, 7, 21, 231>,
+    RateModel<T, 18, 4, 72, 2628>,
+    RateModel<T, 9, 4, 36, 666>,
+    RateModel<T, 9, 4, 36, 666>,
+>;
+
+/// The extended structure with a single rule per model (a linear model with damping and trim).
+pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
+    T,
+    VelocityModel<T, 1, 7, 7, 28>,
+    RateModel<T, 1, 4, 4, 10>,
+    RateModel<T, 1, 4, 4, 10>,
+    RateModel<T, 1, 4, 4, 10>,
+>;
+
+/// Builds the four models of an identifier from rule bases and structures.
+#[allow(clippy::type_complexity)]
+fn build<
+    T: Real,
+    const RV: usize,
+    const DV: usize,
+    const NV: usize,
+    const PV: usize,
+    const RQ: usize,
+    const RR: usize,
+    const RP: usize,
+    const DA: usize,
+    const NQ: usize,
+    const PQ: usize,
+    const NR: usize,
+    const PR: usize,
+    const NP: usize,
+    const PP: usize,
+>(
+    config: HoverConfig<T>,
+    rules: (
+        RuleBase<T, 3, RV>,
+        RuleBase<T, 3, RQ>,
+        RuleBase<T, 3, RR>,
+        RuleBase<T, 3, RP>,
+    ),
+    velocity: VelocityStructure,
+    rate: RateStructure,
+) -> Result<
+    HoverIdentifier<
+        T,
+        VelocityModel<T, RV, DV, NV, PV>,
+        RateModel<T, RQ, DA, NQ, PQ>,
+        RateModel<T, RR, DA, NR, PR>,
+        RateModel<T, RP, DA, NP, PP>,
+    >,
+    Error,
+> {
+    let c = config.rls;
+    let rs = config.rate_scaling::<DA>(rate);
+    HoverIdentifier::new(
+        VelocityModel::with_scaling(rules.0, velocity, c, config.velocity_scaling(velocity))?,
+        RateModel::with_scaling(RateAxis::Pitch, rules.1, rate, c, rs)?,
+        RateModel::with_scaling(RateAxis::Yaw, rules.2, rate, c, rs)?,
+        RateModel::with_scaling(RateAxis::Roll, rules.3, rate, c, rs)?,
+        config,
+    )
+}
+
 impl<T: Real> PaperFuzzyIdentifier<T> {
     /// The paper's fuzzy identifier: Eqs. 27–30 with Table 3's sets.
     pub fn paper_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
-        let c = config.rls;
-        Self::new(
-            VelocityModel::new(table3::velocity()?, VelocityStructure::Paper, c)?,
-            RateModel::new(
-                RateAxis::Pitch,
-                table3::pitch_rate()?,
-                RateStructure::Paper,
-                c,
-            )?,
-            RateModel::new(RateAxis::Yaw, table3::yaw_rate()?, RateStructure::Paper, c)?,
-            RateModel::new(
-                RateAxis::Roll,
-                table3::roll_rate()?,
-                RateStructure::Paper,
-                c,
-            )?,
+        let rules = (
+            table3::velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
             config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
         )
     }
 }
@@ -141,28 +247,45 @@ impl<T: Real> PaperFuzzyIdentifier<T> {
 impl<T: Real> PaperPlainIdentifier<T> {
     /// The paper's plain-RLS baseline: Eqs. 19 and 26, one rule per model.
     pub fn paper_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let c = config.rls;
-        Self::new(
-            VelocityModel::new(RuleBase::single_rule()?, VelocityStructure::Paper, c)?,
-            RateModel::new(
-                RateAxis::Pitch,
-                RuleBase::single_rule()?,
-                RateStructure::Paper,
-                c,
-            )?,
-            RateModel::new(
-                RateAxis::Yaw,
-                RuleBase::single_rule()?,
-                RateStructure::Paper,
-                c,
-            )?,
-            RateModel::new(
-                RateAxis::Roll,
-                RuleBase::single_rule()?,
-                RateStructure::Paper,
-                c,
-            )?,
+        let one = || RuleBase::single_rule();
+        let rules = (one()?, one()?, one()?, one()?);
+        build(
             config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
+        )
+    }
+}
+
+impl<T: Real> ExtendedFuzzyIdentifier<T> {
+    /// The extended fuzzy identifier (see [`ExtendedFuzzyIdentifier`]).
+    pub fn extended_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::vertical_velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
+        )
+    }
+}
+
+impl<T: Real> ExtendedPlainIdentifier<T> {
+    /// The extended single-rule identifier (see [`ExtendedPlainIdentifier`]).
+    pub fn extended_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let one = || RuleBase::single_rule();
+        let rules = (one()?, one()?, one()?, one()?);
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
         )
     }
 }

@@ -21,8 +21,8 @@ mod sample;
 pub mod table3;
 
 pub use identifier::{
-    HoverConfig, HoverIdentifier, HoverSnapshot, PaperFuzzyIdentifier, PaperPlainIdentifier,
-    StepOutput,
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier, HoverSnapshot,
+    PaperFuzzyIdentifier, PaperPlainIdentifier, RegressorScaling, StepOutput,
 };
 pub use models::{
     rotor_axis, RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,

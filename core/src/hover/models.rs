@@ -6,7 +6,7 @@ use crate::hover::sample::{HoverSample, HoverState};
 use crate::rls::{RlsConfig, RlsState};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
-use crate::ts::{Prepared, TsRls};
+use crate::ts::{Prepared, Scaling, TsRls};
 
 /// What a [`HoverIdentifier`](crate::hover::HoverIdentifier) needs of each of its models.
 ///
@@ -39,8 +39,14 @@ pub trait StateModel<T: Real> {
 #[non_exhaustive]
 pub enum VelocityStructure {
     /// Eq. 27: per rule `α1` (thrust along the rotor axis `R e2`, all three outputs) and `α2`
-    /// (weight, `v_y` only). `D = 2`.
+    /// (weight, `v_y` only). `D = 2`, terms `[e·u_col, 1]`.
     Paper,
+    /// Eq. 27 plus per-axis drag and an affine (trim) term on each axis: per rule
+    /// `[α1, α2, d_x, d_y, d_z, c_x, c_z]` with `v̂_x(k+1) = v_x + α1 e_x u_col + d_x v_x + c_x`,
+    /// `v̂_y(k+1) = v_y + α1 e_y u_col + α2 + d_y v_y`, `v̂_z(k+1) = v_z + α1 e_z u_col + d_z v_z
+    /// + c_z`. The drag terms model fuselage and rotor damping; the affine terms absorb the
+    /// trim tilt against the tail rotor that Eq. 27 turns into a bias. `D = 7`.
+    Extended,
 }
 
 impl VelocityStructure {
@@ -48,6 +54,24 @@ impl VelocityStructure {
     pub const fn terms(self) -> usize {
         match self {
             Self::Paper => 2,
+            Self::Extended => 7,
+        }
+    }
+
+    /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): thrust term
+    /// `e·u_col` 0.5, constants 1, velocities 1 m/s; target `Δv` 0.05 m/s per step.
+    pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
+        let nominal: &[f64] = match self {
+            Self::Paper => &[0.5, 1.0],
+            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+        };
+        let mut terms = [T::one(); D];
+        for (t, &n) in terms.iter_mut().zip(nominal) {
+            *t = T::lit(n);
+        }
+        Scaling {
+            terms,
+            target: T::lit(0.05),
         }
     }
 }
@@ -71,23 +95,32 @@ pub struct VelocityModel<T, const R: usize, const D: usize, const N: usize, cons
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
     VelocityModel<T, R, D, N, NP>
 {
-    /// A model over the given rule base (premise `[v_x v_y v_z]`, m/s).
+    /// A model over the given rule base (premise `[v_x v_y v_z]`, m/s), unscaled.
     pub fn new(
         rules: RuleBase<T, 3, R>,
         structure: VelocityStructure,
         config: RlsConfig<T>,
     ) -> Result<Self, Error> {
-        if structure.terms() != D {
-            return Err(ConfigError::ConsequentTerms {
-                needed: structure.terms() as u8,
-                found: D as u8,
-            }
-            .into());
-        }
+        Self::with_scaling(rules, structure, config, Scaling::unit())
+    }
+
+    /// A model whose terms and target are divided by nominal scales (see [`Scaling`]).
+    pub fn with_scaling(
+        rules: RuleBase<T, 3, R>,
+        structure: VelocityStructure,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<Self, Error> {
+        check_terms(structure.terms(), D)?;
         Ok(Self {
-            ts: TsRls::new(rules, config)?,
+            ts: TsRls::with_scaling(rules, config, scaling)?,
             structure,
         })
+    }
+
+    /// The consequent structure.
+    pub fn structure(&self) -> VelocityStructure {
+        self.structure
     }
 
     /// The underlying TS model (rule base, parameters, covariance).
@@ -100,17 +133,26 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         let mut terms = [[T::zero(); D]; 3];
         let a = &s.attitude;
         let e = rotor_axis(a.roll, a.pitch, a.yaw);
-        match self.structure {
-            VelocityStructure::Paper => {
-                for (out, (t, &ei)) in terms.iter_mut().zip(e.iter()).enumerate() {
-                    if let Some(x) = t.get_mut(0) {
-                        *x = ei * s.controls.col;
-                    }
-                    if out == 1 {
-                        if let Some(x) = t.get_mut(1) {
-                            *x = T::one();
-                        }
-                    }
+        let one = T::one();
+        for (out, (t, (&ei, &v))) in terms
+            .iter_mut()
+            .zip(e.iter().zip(s.velocity.iter()))
+            .enumerate()
+        {
+            // Which slot each output's own terms occupy: [α1, α2, d_x, d_y, d_z, c_x, c_z].
+            let own: &[(usize, T)] = match (self.structure, out) {
+                (VelocityStructure::Paper, 1) => &[(1, one)],
+                (VelocityStructure::Paper, _) => &[],
+                (VelocityStructure::Extended, 0) => &[(2, v), (5, one)],
+                (VelocityStructure::Extended, 1) => &[(1, one), (3, v)],
+                (VelocityStructure::Extended, _) => &[(4, v), (6, one)],
+            };
+            if let Some(x) = t.get_mut(0) {
+                *x = ei * s.controls.col;
+            }
+            for &(slot, value) in own {
+                if let Some(x) = t.get_mut(slot) {
+                    *x = value;
                 }
             }
         }
@@ -162,6 +204,18 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 }
 
+fn check_terms(needed: usize, found: usize) -> Result<(), Error> {
+    if needed == found {
+        Ok(())
+    } else {
+        Err(ConfigError::ConsequentTerms {
+            needed: needed as u8,
+            found: found as u8,
+        }
+        .into())
+    }
+}
+
 /// Which body rate an angular model predicts.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -193,6 +247,12 @@ pub enum RateStructure {
     /// Eqs. 28–30: per rule an inertia-coupling coefficient `𝕀^i` (gyroscopic product of
     /// the other two rates) and a control gain `γ^i`. `D = 2`.
     Paper,
+    /// Eqs. 28–30 plus a damping term in the model's own rate and an affine (trim) term:
+    /// per rule `[𝕀, γ, δ, c]`, e.g. `q̂(k+1) = q + 𝕀 r p + γ u_lon u_col + δ q + c`.
+    /// Rotorcraft damp their rates strongly (rotor flapping, Eqs. 6–7), which the paper's
+    /// structure can only fold into the control gain; the affine term absorbs trim moments.
+    /// `D = 4`.
+    Extended,
 }
 
 impl RateStructure {
@@ -200,6 +260,25 @@ impl RateStructure {
     pub const fn terms(self) -> usize {
         match self {
             Self::Paper => 2,
+            Self::Extended => 4,
+        }
+    }
+
+    /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): rate products
+    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, constants 1; target `Δω` 1 deg/s
+    /// per step.
+    pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
+        let nominal: &[f64] = match self {
+            Self::Paper => &[100.0, 0.05],
+            Self::Extended => &[100.0, 0.05, 10.0, 1.0],
+        };
+        let mut terms = [T::one(); D];
+        for (t, &n) in terms.iter_mut().zip(nominal) {
+            *t = T::lit(n);
+        }
+        Scaling {
+            terms,
+            target: T::one(),
         }
     }
 }
@@ -215,25 +294,35 @@ pub struct RateModel<T, const R: usize, const D: usize, const N: usize, const NP
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
     RateModel<T, R, D, N, NP>
 {
-    /// A model of one body rate over the given rule base (premise `[q r p]`, deg/s).
+    /// A model of one body rate over the given rule base (premise `[q r p]`, deg/s), unscaled.
     pub fn new(
         axis: RateAxis,
         rules: RuleBase<T, 3, R>,
         structure: RateStructure,
         config: RlsConfig<T>,
     ) -> Result<Self, Error> {
-        if structure.terms() != D {
-            return Err(ConfigError::ConsequentTerms {
-                needed: structure.terms() as u8,
-                found: D as u8,
-            }
-            .into());
-        }
+        Self::with_scaling(axis, rules, structure, config, Scaling::unit())
+    }
+
+    /// A model whose terms and target are divided by nominal scales (see [`Scaling`]).
+    pub fn with_scaling(
+        axis: RateAxis,
+        rules: RuleBase<T, 3, R>,
+        structure: RateStructure,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<Self, Error> {
+        check_terms(structure.terms(), D)?;
         Ok(Self {
-            ts: TsRls::new(rules, config)?,
+            ts: TsRls::with_scaling(rules, config, scaling)?,
             axis,
             structure,
         })
+    }
+
+    /// The consequent structure.
+    pub fn structure(&self) -> RateStructure {
+        self.structure
     }
 
     /// The underlying TS model (rule base, parameters, covariance).
@@ -250,18 +339,19 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
     pub fn terms(&self, s: &HoverSample<T>) -> [T; D] {
         let [q, r, p] = s.rates;
         let u = &s.controls;
-        let paper = match self.axis {
+        let [cross, control] = match self.axis {
             RateAxis::Pitch => [r * p, u.lon * u.col],
             RateAxis::Yaw => [q * p, u.ped],
             RateAxis::Roll => [q * r, u.lat * u.col],
         };
+        let all = [cross, control, self.rate(s), T::one()];
+        let used = match self.structure {
+            RateStructure::Paper => 2,
+            RateStructure::Extended => 4,
+        };
         let mut terms = [T::zero(); D];
-        match self.structure {
-            RateStructure::Paper => {
-                for (t, x) in terms.iter_mut().zip(paper) {
-                    *t = x;
-                }
-            }
+        for (t, &x) in terms.iter_mut().zip(all.iter().take(used)) {
+            *t = x;
         }
         terms
     }

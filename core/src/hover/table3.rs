@@ -58,6 +58,16 @@ pub fn velocity<T: Real>() -> Result<RuleBase<T, 3, 27>, Error> {
     ])
 }
 
+/// Table 3's `ṽ_y` sets alone (3 rules): the premise of the extended fuzzy translational
+/// model, whose thrust gain varies with the vertical inflow.
+pub fn vertical_velocity<T: Real>() -> Result<RuleBase<T, 3, 3>, Error> {
+    RuleBase::new([
+        Vec::new(),
+        three_sets((-1.0, 0.03), (0.0, 3.0), (1.0, 0.03)),
+        Vec::new(),
+    ])
+}
+
 /// q̂ model (Eq. 28): premise `(q̃, r̃, p̃)` (deg/s); p̃ has only its shoulders: 18 rules.
 pub fn pitch_rate<T: Real>() -> Result<RuleBase<T, 3, 18>, Error> {
     RuleBase::new([
