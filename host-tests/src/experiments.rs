@@ -17,8 +17,14 @@
 
 use nalgebra::Vector3;
 use rotorid::frames::NedFrdSample;
-use rotorid::hover::{Attitude, Controls, HoverSample, HoverState};
+use rotorid::hover::{
+    Attitude, Controls, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel,
+    StepOutput,
+};
+use rotorid::rls::{Algorithm, RlsState};
 use rotorid::sweep::{Channel as SweepChannel, Sweep, SweepSchedule};
+use rotorid::{HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use serde::{Deserialize, Serialize};
 
 use crate::plant::{
     simulate, verification_excitation, Channel, Flight, FlightConfig, HoverPilot, PilotGains,
@@ -121,6 +127,15 @@ pub fn identification_flight_for(
     seed: u64,
     duration_s: f64,
 ) -> Result<Vec<SensorSample>, PlantError> {
+    identification_flight_with(&FlightConfig::realistic(seed, 0.0), duration_s)
+}
+
+/// [`identification_flight_for`] with any flight configuration (for example without noise
+/// and turbulence); its `duration` is replaced by `duration_s` (at most the sweeps' length).
+pub fn identification_flight_with(
+    config: &FlightConfig,
+    duration_s: f64,
+) -> Result<Vec<SensorSample>, PlantError> {
     let schedule = identification_schedule()
         .map_err(|e| PlantError::InvalidConfig(format!("identification sweeps: {e}")))?;
     let full = f64::from(schedule.len()) / f64::from(SAMPLE_RATE_HZ);
@@ -129,7 +144,10 @@ pub fn identification_flight_for(
     } else {
         duration_s.clamp(0.0, full)
     };
-    let config = FlightConfig::realistic(seed, duration);
+    let config = FlightConfig {
+        duration,
+        ..*config
+    };
     let n = (duration * f64::from(SAMPLE_RATE_HZ) + 1e-9).floor();
     let n = if n > 0.0 { n as u32 } else { 0 };
     let mut flight = Flight::new(&config)?;
@@ -282,6 +300,459 @@ pub fn format_table4(fuzzy: &[f64; 6], plain: &[f64; 6]) -> String {
 /// Prints [`format_table4`] to standard output.
 pub fn print_table4(fuzzy: &[f64; 6], plain: &[f64; 6]) {
     print!("{}", format_table4(fuzzy, plain));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Identifier variants and their evaluation
+// ---------------------------------------------------------------------------------------------
+
+/// What the experiments need of an identifier: the core's [`HoverIdentifier`] API for `f32`,
+/// object-safe, plus parameter export/import as plain data. Implemented for every
+/// `HoverIdentifier<f32, …>` whose models hold [`RlsState`]s.
+pub trait Identifier {
+    /// [`HoverIdentifier::step`]: learn from the previous sample to this one, predict the next.
+    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error>;
+    /// [`HoverIdentifier::predict`]: one-step prediction with frozen θ.
+    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+    /// [`HoverIdentifier::resume`]: restart the sample chain (after a gap).
+    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+    /// A boxed copy (to verify a still-adapting copy next to the frozen one).
+    fn boxed_clone(&self) -> Box<dyn Identifier>;
+    /// θ and covariance factor of the four models (velocity, q̂, r̂, p̂), for warm start.
+    fn parameters(&self) -> Vec<ModelParameters>;
+    /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String>;
+}
+
+/// Exported state of one model (one [`RlsState`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelParameters {
+    /// `velocity` (Eq. 27), `q`, `r` or `p` (Eqs. 28–30).
+    pub model: String,
+    /// `covariance` (the paper's form) or `ud` (Bierman U-D).
+    pub algorithm: String,
+    /// Consequent parameters θ, rule-major (`[α1 α2]` or `[𝕀 γ]` per rule).
+    pub theta: Vec<f32>,
+    /// Packed covariance P, or packed U with D on the diagonal.
+    pub factor: Vec<f32>,
+    /// Updates made.
+    pub updates: u32,
+}
+
+/// Conversion of one model's [`RlsState`] to and from [`ModelParameters`].
+pub trait ModelStateIo: Sized {
+    /// To plain data.
+    fn to_parameters(&self, model: &str) -> ModelParameters;
+    /// From plain data (sizes and algorithm checked here, values by the core's `import`).
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String>;
+}
+
+impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
+    fn to_parameters(&self, model: &str) -> ModelParameters {
+        ModelParameters {
+            model: model.to_string(),
+            algorithm: match self.algorithm {
+                Algorithm::Covariance => "covariance",
+                Algorithm::UdFactor => "ud",
+            }
+            .to_string(),
+            theta: self.theta.to_vec(),
+            factor: self.factor.to_vec(),
+            updates: self.updates,
+        }
+    }
+
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+        let algorithm = match p.algorithm.as_str() {
+            "covariance" => Algorithm::Covariance,
+            "ud" => Algorithm::UdFactor,
+            other => return Err(format!("model {}: unknown algorithm `{other}`", p.model)),
+        };
+        let theta: [f32; N] = p.theta.as_slice().try_into().map_err(|_| {
+            format!(
+                "model {}: {} parameters, this identifier has {N}",
+                p.model,
+                p.theta.len()
+            )
+        })?;
+        let factor: [f32; NP] = p.factor.as_slice().try_into().map_err(|_| {
+            format!(
+                "model {}: {} covariance entries, this identifier has {NP}",
+                p.model,
+                p.factor.len()
+            )
+        })?;
+        Ok(Self {
+            algorithm,
+            theta,
+            factor,
+            updates: p.updates,
+        })
+    }
+}
+
+/// Names of the four models in export order.
+pub const MODEL_NAMES: [&str; 4] = ["velocity", "q", "r", "p"];
+
+impl<V, Q, R, P> Identifier for HoverIdentifier<f32, V, Q, R, P>
+where
+    V: StateModel<f32> + Clone + 'static,
+    Q: StateModel<f32> + Clone + 'static,
+    R: StateModel<f32> + Clone + 'static,
+    P: StateModel<f32> + Clone + 'static,
+    V::State: ModelStateIo,
+    Q::State: ModelStateIo,
+    R::State: ModelStateIo,
+    P::State: ModelStateIo,
+{
+    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
+        HoverIdentifier::step(self, sample)
+    }
+
+    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::predict(self, sample)
+    }
+
+    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::resume(self, sample)
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Identifier> {
+        Box::new(self.clone())
+    }
+
+    fn parameters(&self) -> Vec<ModelParameters> {
+        let s = self.export();
+        vec![
+            s.velocity.to_parameters(MODEL_NAMES[0]),
+            s.pitch.to_parameters(MODEL_NAMES[1]),
+            s.yaw.to_parameters(MODEL_NAMES[2]),
+            s.roll.to_parameters(MODEL_NAMES[3]),
+        ]
+    }
+
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String> {
+        let find = |name: &str| {
+            parameters
+                .iter()
+                .find(|p| p.model == name)
+                .ok_or_else(|| format!("no parameters for model `{name}`"))
+        };
+        let snapshot = HoverSnapshot {
+            velocity: V::State::from_parameters(find(MODEL_NAMES[0])?)?,
+            pitch: Q::State::from_parameters(find(MODEL_NAMES[1])?)?,
+            yaw: R::State::from_parameters(find(MODEL_NAMES[2])?)?,
+            roll: P::State::from_parameters(find(MODEL_NAMES[3])?)?,
+        };
+        self.import(&snapshot).map_err(|e| e.to_string())
+    }
+}
+
+/// A named identifier configuration to evaluate. Adding a variant is one entry in
+/// [`variants`].
+#[derive(Clone, Copy)]
+pub struct Variant {
+    /// Name used in tables, JSON and file names.
+    pub name: &'static str,
+    /// One-line description for reports.
+    pub description: &'static str,
+    /// A fresh (untrained) identifier.
+    pub build: fn() -> Result<Box<dyn Identifier>, rotorid::Error>,
+}
+
+impl std::fmt::Debug for Variant {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Variant").field("name", &self.name).finish()
+    }
+}
+
+/// The identifier variants the report compares. The first two are Table 4's columns.
+pub fn variants() -> Vec<Variant> {
+    vec![
+        Variant {
+            name: "paper fuzzy",
+            description:
+                "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6",
+            build: || {
+                Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "paper plain",
+            description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6",
+            build: || {
+                Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+    ]
+}
+
+/// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`].
+pub const TABLE4_VARIANTS: (usize, usize) = (0, 1);
+
+/// Mean absolute error per state over `(prediction, actual)` pairs; zeros when empty.
+pub fn mean_abs_errors<'a>(
+    pairs: impl IntoIterator<Item = (&'a HoverState<f32>, &'a HoverState<f32>)>,
+) -> [f64; 6] {
+    let mut sum = [0.0f64; 6];
+    let mut n = 0usize;
+    for (pred, actual) in pairs {
+        let (p, x) = (pred.to_array(), actual.to_array());
+        for i in 0..6 {
+            sum[i] += (f64::from(p[i]) - f64::from(x[i])).abs();
+        }
+        n += 1;
+    }
+    if n > 0 {
+        sum.iter_mut().for_each(|s| *s /= n as f64);
+    }
+    sum
+}
+
+/// What training on a set of logs did.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrainingStats {
+    /// Samples offered.
+    pub samples: usize,
+    /// Updates made (samples that followed an accepted sample at the nominal interval).
+    pub updates: usize,
+    /// Sample chains started (one per log, plus one after each gap or rejection).
+    pub chains: usize,
+    /// Samples the identifier refused (out of range, numerically unusable).
+    pub rejected: usize,
+    /// Mean absolute one-step error of the still-adapting predictions over the training data
+    /// (each prediction made with θ learnt up to the sample it starts from).
+    pub one_step: [f64; 6],
+}
+
+/// Trains `id` online over `logs` (each its own sample chain: [`Identifier::resume`] at the
+/// start of each log and after a gap or a refused sample). `progress` is called once per
+/// sample.
+pub fn train(
+    id: &mut dyn Identifier,
+    logs: &[Vec<HoverSample<f32>>],
+    progress: &mut dyn FnMut(),
+) -> TrainingStats {
+    let mut stats = TrainingStats::default();
+    let mut pairs: Vec<(HoverState<f32>, HoverState<f32>)> = Vec::new();
+    for log in logs {
+        let mut pending: Option<HoverState<f32>> = None;
+        let mut chained = false;
+        for s in log {
+            progress();
+            stats.samples += 1;
+            let result = if chained {
+                match id.step(s) {
+                    Ok(out) => {
+                        stats.updates += 1;
+                        Ok(out.prediction)
+                    }
+                    Err(rotorid::Error::TimeStep { .. } | rotorid::Error::NonMonotonicTime) => {
+                        stats.chains += 1;
+                        pending = None;
+                        id.resume(s)
+                    }
+                    Err(e) => Err(e),
+                }
+            } else {
+                stats.chains += 1;
+                id.resume(s)
+            };
+            match result {
+                Ok(pred) => {
+                    if let Some(p) = pending {
+                        pairs.push((p, s.state()));
+                    }
+                    pending = Some(pred);
+                    chained = true;
+                }
+                Err(_) => {
+                    stats.rejected += 1;
+                    pending = None;
+                }
+            }
+        }
+    }
+    stats.one_step = mean_abs_errors(pairs.iter().map(|(p, a)| (p, a)));
+    stats
+}
+
+/// Everything measured for one variant over the verification log.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct VariantResult {
+    /// [`Variant::name`].
+    pub name: String,
+    /// [`Variant::description`].
+    pub description: String,
+    /// Training statistics.
+    pub training: TrainingStats,
+    /// Hold baseline `x̂(k+1) = x(k)`: mean absolute one-step error per state.
+    pub hold_one_step: [f64; 6],
+    /// Table 4's definition: θ frozen after training, one-step predictions with `predict`.
+    pub one_step: [f64; 6],
+    /// θ still adapting during verification (`step`'s predictions).
+    pub one_step_adapting: [f64; 6],
+    /// Free run: the model fed its own predictions of `v^s` and `ω^b` over windows of
+    /// `window_s`, restarted from the measured state at each window, with measured attitude
+    /// and controls; mean absolute error over every predicted sample.
+    pub free_run: [f64; 6],
+    /// Hold baseline of the free run: the window's initial state held for the whole window
+    /// (scored over every window sample, whatever the model did).
+    pub hold_free_run: [f64; 6],
+    /// Free-run windows evaluated.
+    pub free_run_windows: usize,
+    /// Windows in which the model's own state left the core's sample limits (the rest of that
+    /// window is not scored).
+    pub free_run_diverged: usize,
+    /// Verification samples the frozen model could not predict from (out of range).
+    pub rejected_verification: usize,
+    /// Frozen one-step predictions: `one_step_predictions[k]` predicts sample k+1 (`None`
+    /// where refused).
+    #[serde(skip)]
+    pub one_step_predictions: Vec<Option<HoverState<f32>>>,
+    /// Free-run trajectory: `free_run_trace[k]` is the free-run estimate of sample k (`None`
+    /// at window starts and after a divergence).
+    #[serde(skip)]
+    pub free_run_trace: Vec<Option<HoverState<f32>>>,
+    /// Trained parameters (warm start).
+    #[serde(skip)]
+    pub parameters: Vec<ModelParameters>,
+}
+
+/// Result of [`free_run`].
+#[derive(Debug, Clone, Default)]
+pub struct FreeRun {
+    /// `trace[k]`: free-run estimate of sample k (`None` at window starts, after divergence).
+    pub trace: Vec<Option<HoverState<f32>>>,
+    /// Mean absolute error per state over every predicted sample.
+    pub error: [f64; 6],
+    /// The same for holding each window's initial state.
+    pub hold: [f64; 6],
+    /// Windows run.
+    pub windows: usize,
+    /// Windows in which the model's state left the core's sample limits.
+    pub diverged: usize,
+}
+
+/// Free-run simulation of a frozen model over `samples` in windows of `window` steps: each
+/// window starts from the measured state, then the model is fed its own predicted `v^s`,
+/// `ω^b` with the measured attitude and controls.
+pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize) -> FreeRun {
+    let window = window.max(1);
+    let mut trace = vec![None; samples.len()];
+    let mut pairs = Vec::new();
+    let mut hold_pairs = Vec::new();
+    let (mut windows, mut diverged) = (0, 0);
+    let mut start = 0;
+    while start + 1 < samples.len() {
+        windows += 1;
+        let end = (start + window).min(samples.len() - 1);
+        let x0 = samples[start].state();
+        let mut x = x0;
+        for j in start..end {
+            hold_pairs.push((x0, samples[j + 1].state()));
+        }
+        for j in start..end {
+            let mut s = samples[j];
+            s.velocity = x.velocity;
+            s.rates = x.rates;
+            match id.predict(&s) {
+                Ok(next) => {
+                    x = next;
+                    trace[j + 1] = Some(next);
+                    pairs.push((next, samples[j + 1].state()));
+                }
+                Err(_) => {
+                    diverged += 1;
+                    break;
+                }
+            }
+        }
+        start = end;
+    }
+    FreeRun {
+        trace,
+        error: mean_abs_errors(pairs.iter().map(|(p, a)| (p, a))),
+        hold: mean_abs_errors(hold_pairs.iter().map(|(p, a)| (p, a))),
+        windows,
+        diverged,
+    }
+}
+
+/// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
+/// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run over
+/// windows of `window_s` seconds. `progress` is called once per training sample and once per
+/// verification sample.
+pub fn evaluate(
+    variant: &Variant,
+    training: &[Vec<HoverSample<f32>>],
+    verification: &[HoverSample<f32>],
+    window_s: f64,
+    warm_start: Option<&[ModelParameters]>,
+    progress: &mut dyn FnMut(),
+) -> Result<VariantResult, String> {
+    let mut id = (variant.build)().map_err(|e| format!("{}: {e}", variant.name))?;
+    if let Some(p) = warm_start {
+        id.load(p)
+            .map_err(|e| format!("{}: warm start: {e}", variant.name))?;
+    }
+    let training_stats = train(id.as_mut(), training, progress);
+
+    // Frozen one-step predictions (Table 4).
+    let mut preds = Vec::with_capacity(verification.len());
+    let mut rejected = 0;
+    for s in verification
+        .iter()
+        .take(verification.len().saturating_sub(1))
+    {
+        progress();
+        let p = id.predict(s).ok();
+        if p.is_none() {
+            rejected += 1;
+        }
+        preds.push(p);
+    }
+    let actual: Vec<HoverState<f32>> = verification.iter().map(HoverSample::state).collect();
+    let one_step = mean_abs_errors(
+        preds
+            .iter()
+            .zip(actual.iter().skip(1))
+            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
+    );
+    let hold_one_step = mean_abs_errors(actual.iter().zip(actual.iter().skip(1)));
+
+    // Still adapting: a copy of the trained identifier keeps learning on the verification log.
+    let mut adapting = id.boxed_clone();
+    let stats = train(adapting.as_mut(), &[verification.to_vec()], &mut || {});
+
+    let window = (window_s * f64::from(SAMPLE_RATE_HZ)).round();
+    let window = if window.is_finite() && window >= 1.0 {
+        window as usize
+    } else {
+        1
+    };
+    let free = free_run(id.as_ref(), verification, window);
+
+    Ok(VariantResult {
+        name: variant.name.to_string(),
+        description: variant.description.to_string(),
+        training: training_stats,
+        hold_one_step,
+        one_step,
+        one_step_adapting: stats.one_step,
+        free_run: free.error,
+        hold_free_run: free.hold,
+        free_run_windows: free.windows,
+        free_run_diverged: free.diverged,
+        rejected_verification: rejected,
+        one_step_predictions: preds,
+        free_run_trace: free.trace,
+        parameters: id.parameters(),
+    })
 }
 
 #[cfg(test)]

@@ -4,8 +4,10 @@ pub mod dense_rls;
 pub mod experiments;
 pub mod firmware_link;
 pub mod golden;
+pub mod log;
 pub mod plant;
 pub mod reference;
+pub mod report;
 
 /// The code blocks of the repository's README, compiled and run as doc tests so the README
 /// stays true.

@@ -1,1 +1,316 @@
-fn main() {}
+//! `rotorid`: simulate X-Cell 60 flights into the flight-log format, and identify hover
+//! models from flight logs (the paper's Table 4 and Figures 2–5 for your own data).
+//!
+//! ```text
+//! rotorid simulate --kind identification --seed 1 -o ident.csv
+//! rotorid simulate --kind verification --seed 2 --duration 300 -o verify.csv
+//! rotorid identify --train ident.csv --verify verify.csv --out results/
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use host_tests::log;
+use host_tests::plant::{simulate, verification_excitation, FlightConfig};
+use host_tests::report::{self, Metrics, Table4};
+use indicatif::{ProgressBar, ProgressStyle};
+
+#[derive(Parser)]
+#[command(
+    name = "rotorid",
+    version,
+    about = "Identify miniature-helicopter hover dynamics (TS fuzzy + RLS) from flight logs"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Kind {
+    /// The four Table 2 sweeps (lon, lat, ped, col), 255 s in full.
+    Identification,
+    /// Doublets and 3-2-1-1 multisteps on all controls between hover periods.
+    Verification,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Fly the X-Cell 60 simulator and write the flight log (CSV, docs/log-format.md).
+    Simulate {
+        /// Flight kind.
+        #[arg(long, value_enum)]
+        kind: Kind,
+        /// Seed of noise, turbulence, jitter and (verification) manoeuvres.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Duration (s). Identification: at most the 255 s of the sweeps (default all);
+        /// verification: default 120 s.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// No measurement noise and no turbulence (jitter stays).
+        #[arg(long)]
+        clean: bool,
+        /// Output CSV file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Train the fuzzy and plain identifiers on logs, verify on another log, print Table 4.
+    Identify {
+        /// Training (identification) logs, learnt one after another.
+        #[arg(long, required = true, num_args = 1..)]
+        train: Vec<PathBuf>,
+        /// Verification log (θ frozen after training).
+        #[arg(long)]
+        verify: PathBuf,
+        /// Directory for metrics.json, params-*.json and the figures.
+        #[arg(long, default_value = "rotorid-out")]
+        out: PathBuf,
+        /// Free-run window (s): the model runs on its own predictions, restarted from the
+        /// measured state at each window.
+        #[arg(long, default_value_t = 2.0)]
+        window: f64,
+        /// Plot only the first seconds of the verification flight (default: all).
+        #[arg(long)]
+        plot_span: Option<f64>,
+        /// Do not write the PNG figures.
+        #[arg(long)]
+        no_plots: bool,
+        /// Warm start the first variant from a params-*.json written by an earlier run.
+        #[arg(long)]
+        warm_start: Option<PathBuf>,
+    },
+    /// Write docs/results.md from the metrics of a realistic and a clean run (used by
+    /// scripts/results.sh).
+    #[command(hide = true)]
+    Report {
+        /// metrics.json of the realistic (noisy, turbulent) run.
+        #[arg(long)]
+        realistic: PathBuf,
+        /// metrics.json of the clean (no noise, still air) run.
+        #[arg(long)]
+        clean: PathBuf,
+        /// Seconds the results script took to simulate and identify (for the doc).
+        #[arg(long)]
+        elapsed: Option<f64>,
+        /// Output markdown file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Simulate {
+            kind,
+            seed,
+            duration,
+            clean,
+            output,
+        } => run_simulate(kind, seed, duration, clean, &output),
+        Command::Identify {
+            train,
+            verify,
+            out,
+            window,
+            plot_span,
+            no_plots,
+            warm_start,
+        } => run_identify(
+            &train,
+            &verify,
+            &out,
+            window,
+            plot_span,
+            no_plots,
+            warm_start.as_deref(),
+        ),
+        Command::Report {
+            realistic,
+            clean,
+            elapsed,
+            output,
+        } => run_report(&realistic, &clean, elapsed, &output),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run_simulate(
+    kind: Kind,
+    seed: u64,
+    duration: Option<f64>,
+    clean: bool,
+    output: &Path,
+) -> Result<(), String> {
+    if let Some(d) = duration {
+        if !(d.is_finite() && d > 0.0 && d <= 36_000.0) {
+            return Err(format!("--duration must be in (0, 36000] s, got {d}"));
+        }
+    }
+    let samples = match (kind, clean) {
+        (Kind::Identification, false) => {
+            experiments::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
+        }
+        (Kind::Identification, true) => experiments::identification_flight_with(
+            &clean_config(seed),
+            duration.unwrap_or(f64::INFINITY),
+        ),
+        (Kind::Verification, clean) => {
+            let d = duration.unwrap_or(120.0);
+            let config = if clean {
+                FlightConfig {
+                    duration: d,
+                    ..clean_config(seed)
+                }
+            } else {
+                FlightConfig::realistic(seed, d)
+            };
+            simulate(&config, &mut verification_excitation(seed, d))
+        }
+    }
+    .map_err(|e| format!("simulation: {e}"))?;
+    log::write_log(output, &samples).map_err(|e| e.to_string())?;
+    eprintln!(
+        "wrote {} samples ({:.1} s) to {}",
+        samples.len(),
+        samples.len() as f64 / f64::from(experiments::SAMPLE_RATE_HZ),
+        output.display()
+    );
+    Ok(())
+}
+
+fn clean_config(seed: u64) -> FlightConfig {
+    FlightConfig {
+        seed,
+        ..FlightConfig::default()
+    }
+}
+
+fn read(path: &Path) -> Result<Vec<rotorid::hover::HoverSample<f32>>, String> {
+    let log = log::read_log(path).map_err(|e| e.to_string())?;
+    for w in log::warnings(&path.display().to_string(), &log) {
+        eprintln!("warning: {w}");
+    }
+    Ok(experiments::to_hover_samples(&log))
+}
+
+fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), String> {
+    let text =
+        serde_json::to_string_pretty(value).map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn run_identify(
+    train: &[PathBuf],
+    verify: &Path,
+    out: &Path,
+    window: f64,
+    plot_span: Option<f64>,
+    no_plots: bool,
+    warm_start: Option<&Path>,
+) -> Result<(), String> {
+    if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
+        return Err(format!("--window must be in (0, 3600] s, got {window}"));
+    }
+    let training: Vec<_> = train.iter().map(|p| read(p)).collect::<Result<_, _>>()?;
+    let verification = read(verify)?;
+    if verification.len() < 2 {
+        return Err(format!("{}: needs at least 2 samples", verify.display()));
+    }
+    let warm: Option<Vec<ModelParameters>> = match warm_start {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+        }
+        None => None,
+    };
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+
+    let variants = experiments::variants();
+    let n_train: usize = training.iter().map(Vec::len).sum();
+    let total = (n_train + verification.len()) * variants.len();
+    let bar = ProgressBar::new(total as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})")
+            .map_err(|e| e.to_string())?
+            .progress_chars("=> "),
+    );
+    let mut results = Vec::new();
+    for (i, v) in variants.iter().enumerate() {
+        bar.set_message(v.name);
+        let warm = if i == 0 { warm.as_deref() } else { None };
+        let mut tick = || bar.inc(1);
+        results.push(experiments::evaluate(
+            v,
+            &training,
+            &verification,
+            window,
+            warm,
+            &mut tick,
+        )?);
+    }
+    bar.finish_and_clear();
+
+    let table4 = match (
+        results.get(TABLE4_VARIANTS.0),
+        results.get(TABLE4_VARIANTS.1),
+    ) {
+        (Some(f), Some(p)) => Some(Table4::new(f.one_step, p.one_step)),
+        _ => None,
+    };
+    println!(
+        "Table 4 analogue: mean absolute one-step error over {} (θ frozen after training on {} samples)\n",
+        verify.display(),
+        n_train
+    );
+    if let Some(t) = &table4 {
+        print!("{}", experiments::format_table4(&t.fuzzy, &t.plain));
+    }
+    println!();
+    print!("{}", report::format_variants(&results, window));
+
+    for r in &results {
+        let path = out.join(format!("params-{}.json", r.name.replace(' ', "-")));
+        write_json(&path, &r.parameters)?;
+    }
+    let metrics = Metrics {
+        training_files: train.iter().map(|p| p.display().to_string()).collect(),
+        training_samples: n_train,
+        verification_file: verify.display().to_string(),
+        verification_samples: verification.len(),
+        window_s: window,
+        states: report::state_labels(),
+        variants: results,
+        table4,
+    };
+    write_json(&out.join("metrics.json"), &metrics)?;
+    if !no_plots {
+        let figs = report::write_figures(out, &verification, &metrics.variants, plot_span)?;
+        eprintln!("wrote {} figures to {}", figs.len(), out.display());
+    }
+    eprintln!("wrote metrics.json and params-*.json to {}", out.display());
+    Ok(())
+}
+
+fn run_report(
+    realistic: &Path,
+    clean: &Path,
+    elapsed: Option<f64>,
+    output: &Path,
+) -> Result<(), String> {
+    let load = |p: &Path| -> Result<Metrics, String> {
+        let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let md = report::results_markdown(&load(realistic)?, &load(clean)?, elapsed)?;
+    std::fs::write(output, md).map_err(|e| format!("{}: {e}", output.display()))
+}

@@ -1,0 +1,480 @@
+//! The flight-log CSV format (see `docs/log-format.md`): one row per sample, in the flight
+//! computer's convention (NED velocity, forward-right-down body rates in rad/s), read into
+//! [`SensorSample`]s and converted to the paper's axes by
+//! [`experiments::to_hover_samples`](crate::experiments::to_hover_samples).
+//!
+//! | column | quantity | unit |
+//! |---|---|---|
+//! | `time_s` | sample time, strictly increasing, no gap over [`MAX_INTERVAL_S`] | s |
+//! | `u_col`, `u_ped`, `u_lon`, `u_lat` | sticks, collective clearly positive at hover | −1…1 |
+//! | `roll_rad`, `pitch_rad`, `yaw_rad` | ZYX Euler angles φ, θ, ψ | rad |
+//! | `v_north_mps`, `v_east_mps`, `v_down_mps` | inertial velocity, NED | m/s |
+//! | `p_radps`, `q_radps`, `r_radps` | body rates about forward, right, down | rad/s |
+//!
+//! Columns may come in any order; other columns are ignored; lines starting with `#` are
+//! comments. Every problem is a [`LogError`] naming the file, the line and the column.
+
+use std::fmt;
+use std::io::{Read, Write};
+use std::path::Path;
+
+use crate::plant::{SensorSample, Sticks};
+
+/// The columns, in the order [`write_log`] writes them.
+pub const COLUMNS: [&str; 14] = [
+    "time_s",
+    "u_col",
+    "u_ped",
+    "u_lon",
+    "u_lat",
+    "roll_rad",
+    "pitch_rad",
+    "yaw_rad",
+    "v_north_mps",
+    "v_east_mps",
+    "v_down_mps",
+    "p_radps",
+    "q_radps",
+    "r_radps",
+];
+
+/// Largest accepted interval between samples (s): the identifiers run at 50 Hz and accept
+/// 20 ms ± 10 ms.
+pub const MAX_INTERVAL_S: f64 = 0.030;
+
+/// Largest plausible |body rate| (rad/s): 2000 deg/s, a common gyro range and the core's limit.
+/// A larger value almost certainly means the column is in deg/s.
+pub const MAX_RATE_RADPS: f64 = 34.9;
+
+/// Largest |roll| and |yaw| (rad, 2π plus margin); |pitch| ≤ π/2 + margin. Beyond: degrees.
+const MAX_ANGLE_RAD: [f64; 3] = [3.2, 1.6, 6.3];
+
+/// Largest plausible |velocity| (m/s), the core's limit.
+const MAX_VELOCITY_MPS: f64 = 100.0;
+
+/// What is wrong at a [`LogError`]'s position.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LogErrorKind {
+    /// The file could not be read or written.
+    #[error("{0}")]
+    Io(String),
+    /// The file is empty (no header).
+    #[error("empty file: expected a header line with the columns {}", COLUMNS.join(","))]
+    Empty,
+    /// A header but no sample.
+    #[error("no samples after the header")]
+    NoSamples,
+    /// A required column is not in the header.
+    #[error("missing column `{0}`")]
+    MissingColumn(&'static str),
+    /// A column appears twice.
+    #[error("column `{0}` appears twice")]
+    DuplicateColumn(String),
+    /// A header names a quantity in the wrong unit (for example `p_degps`).
+    #[error("column `{found}` is in the wrong unit; the format wants `{expected}`")]
+    WrongUnit {
+        /// The header found.
+        found: String,
+        /// The column the format wants.
+        expected: &'static str,
+    },
+    /// A row has fewer fields than the header.
+    #[error("row has {found} fields, the header has {expected}")]
+    MissingField {
+        /// Fields in the row.
+        found: usize,
+        /// Fields in the header.
+        expected: usize,
+    },
+    /// A field is not a number.
+    #[error("not a number: `{0}`")]
+    NotANumber(String),
+    /// A field is NaN or infinite.
+    #[error("not finite: `{0}`")]
+    NonFinite(String),
+    /// A value outside its range.
+    #[error("{value} is outside [{min}, {max}] {unit}")]
+    OutOfRange {
+        /// The value.
+        value: f64,
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+        /// Unit.
+        unit: &'static str,
+    },
+    /// A rate or angle far beyond what radians allow: the column is in degrees.
+    #[error("{value} is implausible in {unit} (beyond ±{limit}); is the column in degrees?")]
+    LooksLikeDegrees {
+        /// The value.
+        value: f64,
+        /// Largest plausible magnitude.
+        limit: f64,
+        /// The unit the format wants.
+        unit: &'static str,
+    },
+    /// Time does not increase.
+    #[error("time {t} s does not increase (previous sample {previous} s)")]
+    NonMonotonicTime {
+        /// This sample's time (s).
+        t: f64,
+        /// The previous sample's time (s).
+        previous: f64,
+    },
+    /// Too long an interval since the previous sample.
+    #[error("gap of {dt:.4} s since the previous sample (at most {max} s; split the log)")]
+    Gap {
+        /// The interval (s).
+        dt: f64,
+        /// [`MAX_INTERVAL_S`].
+        max: f64,
+    },
+    /// Any other CSV problem.
+    #[error("{0}")]
+    Csv(String),
+}
+
+/// A problem with a log, with its position: file, line (1-based, counting the header and
+/// comments) and column (1-based, with its name).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}{}: {kind}", Position(*line, column))]
+pub struct LogError {
+    /// The file (as given).
+    pub file: String,
+    /// Line, when the problem has one.
+    pub line: Option<u64>,
+    /// Column number and name, when the problem has one.
+    pub column: Option<(usize, String)>,
+    /// What is wrong.
+    pub kind: LogErrorKind,
+}
+
+struct Position<'a>(Option<u64>, &'a Option<(usize, String)>);
+
+impl fmt::Display for Position<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(line) = self.0 {
+            write!(f, ": line {line}")?;
+        }
+        if let Some((col, name)) = self.1 {
+            write!(f, ", column {col} (`{name}`)")?;
+        }
+        Ok(())
+    }
+}
+
+fn err(
+    file: &str,
+    line: Option<u64>,
+    column: Option<(usize, &str)>,
+    kind: LogErrorKind,
+) -> LogError {
+    LogError {
+        file: file.to_string(),
+        line,
+        column: column.map(|(c, n)| (c, n.to_string())),
+        kind,
+    }
+}
+
+/// Wrong-unit spellings of each column's quantity (lower case), e.g. `p_degps` for `p_radps`.
+fn wrong_unit(header: &str) -> Option<&'static str> {
+    let h = header.trim().to_ascii_lowercase();
+    let (stem, unit) = h.rsplit_once('_')?;
+    let deg = ["deg", "degps", "degs", "dps", "deg/s", "degpersec"];
+    let any_unit = deg.contains(&unit)
+        || ["rad", "radps", "rads", "ms", "mps", "kmh", "kts", "fps"].contains(&unit);
+    if !any_unit {
+        return None;
+    }
+    COLUMNS.iter().copied().find(|c| {
+        c.rsplit_once('_')
+            .is_some_and(|(cstem, cunit)| cstem == stem && cunit != unit)
+    })
+}
+
+/// Reads and checks a log file.
+pub fn read_log(path: &Path) -> Result<Vec<SensorSample>, LogError> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|e| {
+        err(
+            &name,
+            None,
+            None,
+            LogErrorKind::Io(format!("cannot open: {e}")),
+        )
+    })?;
+    parse_log(&name, file)
+}
+
+/// Parses and checks a log from any reader; `file` names it in errors.
+pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, LogError> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(reader);
+    let mut records = rdr.records();
+    let csv_err = |e: csv::Error| {
+        let line = e.position().map(csv::Position::line);
+        err(file, line, None, LogErrorKind::Csv(e.to_string()))
+    };
+    let header = match records.next() {
+        None => return Err(err(file, None, None, LogErrorKind::Empty)),
+        Some(r) => r.map_err(csv_err)?,
+    };
+    let header_line = header.position().map_or(1, csv::Position::line);
+    // Column index of each required column.
+    let mut index = [usize::MAX; 14];
+    for (i, h) in header.iter().enumerate() {
+        if let Some(k) = COLUMNS.iter().position(|c| *c == h) {
+            if index[k] != usize::MAX {
+                return Err(err(
+                    file,
+                    Some(header_line),
+                    Some((i + 1, h)),
+                    LogErrorKind::DuplicateColumn(h.to_string()),
+                ));
+            }
+            index[k] = i;
+        } else if let Some(expected) = wrong_unit(h) {
+            return Err(err(
+                file,
+                Some(header_line),
+                Some((i + 1, h)),
+                LogErrorKind::WrongUnit {
+                    found: h.to_string(),
+                    expected,
+                },
+            ));
+        }
+    }
+    for (k, &i) in index.iter().enumerate() {
+        if i == usize::MAX {
+            return Err(err(
+                file,
+                Some(header_line),
+                None,
+                LogErrorKind::MissingColumn(COLUMNS[k]),
+            ));
+        }
+    }
+
+    let mut out: Vec<SensorSample> = Vec::new();
+    for record in records {
+        let record = record.map_err(csv_err)?;
+        let line = record.position().map_or(0, csv::Position::line);
+        if record.iter().all(str::is_empty) {
+            continue;
+        }
+        let mut v = [0.0f64; 14];
+        for (k, &i) in index.iter().enumerate() {
+            let col = Some((i + 1, COLUMNS[k]));
+            let text = record.get(i).ok_or_else(|| {
+                err(
+                    file,
+                    Some(line),
+                    col,
+                    LogErrorKind::MissingField {
+                        found: record.len(),
+                        expected: header.len(),
+                    },
+                )
+            })?;
+            let x: f64 = text.parse().map_err(|_| {
+                err(
+                    file,
+                    Some(line),
+                    col,
+                    LogErrorKind::NotANumber(text.to_string()),
+                )
+            })?;
+            if !x.is_finite() {
+                return Err(err(
+                    file,
+                    Some(line),
+                    col,
+                    LogErrorKind::NonFinite(text.to_string()),
+                ));
+            }
+            check_range(k, x).map_err(|kind| err(file, Some(line), col, kind))?;
+            v[k] = x;
+        }
+        let t = v[0];
+        if let Some(prev) = out.last() {
+            let col = Some((index[0] + 1, COLUMNS[0]));
+            if t <= prev.t {
+                return Err(err(
+                    file,
+                    Some(line),
+                    col,
+                    LogErrorKind::NonMonotonicTime {
+                        t,
+                        previous: prev.t,
+                    },
+                ));
+            }
+            if t - prev.t > MAX_INTERVAL_S {
+                return Err(err(
+                    file,
+                    Some(line),
+                    col,
+                    LogErrorKind::Gap {
+                        dt: t - prev.t,
+                        max: MAX_INTERVAL_S,
+                    },
+                ));
+            }
+        }
+        out.push(SensorSample {
+            t,
+            sticks: Sticks {
+                col: v[1],
+                ped: v[2],
+                lon: v[3],
+                lat: v[4],
+            },
+            roll: v[5],
+            pitch: v[6],
+            yaw: v[7],
+            v_north: v[8],
+            v_east: v[9],
+            v_down: v[10],
+            p: v[11],
+            q: v[12],
+            r: v[13],
+        });
+    }
+    if out.is_empty() {
+        return Err(err(file, Some(header_line), None, LogErrorKind::NoSamples));
+    }
+    Ok(out)
+}
+
+/// Range check of column `k` of [`COLUMNS`].
+fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
+    match k {
+        0 if x < 0.0 => Err(LogErrorKind::OutOfRange {
+            value: x,
+            min: 0.0,
+            max: f64::INFINITY,
+            unit: "s",
+        }),
+        1..=4 if x.abs() > 1.0 => Err(LogErrorKind::OutOfRange {
+            value: x,
+            min: -1.0,
+            max: 1.0,
+            unit: "(normalised stick)",
+        }),
+        5..=7 if x.abs() > MAX_ANGLE_RAD[k - 5] => Err(LogErrorKind::LooksLikeDegrees {
+            value: x,
+            limit: MAX_ANGLE_RAD[k - 5],
+            unit: "rad",
+        }),
+        8..=10 if x.abs() > MAX_VELOCITY_MPS => Err(LogErrorKind::OutOfRange {
+            value: x,
+            min: -MAX_VELOCITY_MPS,
+            max: MAX_VELOCITY_MPS,
+            unit: "m/s",
+        }),
+        11..=13 if x.abs() > MAX_RATE_RADPS => Err(LogErrorKind::LooksLikeDegrees {
+            value: x,
+            limit: MAX_RATE_RADPS,
+            unit: "rad/s",
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Warnings about usable but doubtful data: the collective at or below zero (the models
+/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive).
+pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some((i, s)) = samples
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.sticks.col <= 0.0)
+    {
+        out.push(format!(
+            "{file}: the collective reaches {} at t = {} s (sample {}): u_col stands for thrust in the models and must stay clearly positive (hover near 0.5)",
+            s.sticks.col, s.t, i + 1
+        ));
+    }
+    out
+}
+
+/// Writes samples in the log format (header, then one row per sample; full `f64` precision).
+pub fn write_log_to(writer: impl Write, samples: &[SensorSample]) -> Result<(), csv::Error> {
+    let mut w = csv::Writer::from_writer(writer);
+    w.write_record(COLUMNS)?;
+    for s in samples {
+        let row = [
+            s.t,
+            s.sticks.col,
+            s.sticks.ped,
+            s.sticks.lon,
+            s.sticks.lat,
+            s.roll,
+            s.pitch,
+            s.yaw,
+            s.v_north,
+            s.v_east,
+            s.v_down,
+            s.p,
+            s.q,
+            s.r,
+        ];
+        w.write_record(row.iter().map(|x| x.to_string()))?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Writes a log file.
+pub fn write_log(path: &Path, samples: &[SensorSample]) -> Result<(), LogError> {
+    let name = path.display().to_string();
+    let io = |e: String| err(&name, None, None, LogErrorKind::Io(e));
+    let file = std::fs::File::create(path).map_err(|e| io(format!("cannot create: {e}")))?;
+    write_log_to(std::io::BufWriter::new(file), samples).map_err(|e| io(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(t: f64) -> String {
+        format!("{t},0.5,0.1,0,0,0.01,0.02,0.3,0.1,0.2,0.3,0.01,0.02,0.03\n")
+    }
+
+    fn log(rows: &[f64]) -> String {
+        let mut s = COLUMNS.join(",") + "\n";
+        rows.iter().for_each(|t| s += &row(*t));
+        s
+    }
+
+    #[test]
+    fn roundtrip() {
+        let text = log(&[0.0, 0.02, 0.04]);
+        let a = parse_log("a.csv", text.as_bytes()).expect("valid");
+        let mut buf = Vec::new();
+        write_log_to(&mut buf, &a).expect("write");
+        let b = parse_log("b.csv", buf.as_slice()).expect("valid");
+        assert_eq!(a, b);
+        assert_eq!(a[1].sticks.ped, 0.1);
+        assert_eq!(a[2].r, 0.03);
+    }
+
+    #[test]
+    fn positions() {
+        let text = log(&[0.0, 0.02]).replace("0.02,0.5", "0.02,abc");
+        let e = parse_log("x.csv", text.as_bytes()).expect_err("bad");
+        assert_eq!(e.line, Some(3));
+        assert_eq!(e.column, Some((2, "u_col".to_string())));
+        assert_eq!(
+            e.to_string(),
+            "x.csv: line 3, column 2 (`u_col`): not a number: `abc`"
+        );
+    }
+}

@@ -1,0 +1,301 @@
+//! The `rotorid` command-line tool end to end: a short simulated flight through `simulate`
+//! and `identify`, and each kind of malformed log giving a positioned error and a non-zero
+//! exit (never a panic).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_rotorid"))
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rotorid-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn run(cmd: &mut Command) -> Output {
+    cmd.output().expect("runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn simulate(dir: &Path, kind: &str, seed: &str, duration: &str) -> PathBuf {
+    let out = dir.join(format!("{kind}.csv"));
+    let o = run(bin()
+        .args([
+            "simulate",
+            "--kind",
+            kind,
+            "--seed",
+            seed,
+            "--duration",
+            duration,
+            "-o",
+        ])
+        .arg(&out));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    out
+}
+
+#[test]
+fn end_to_end_on_a_short_flight() {
+    let dir = tmpdir("e2e");
+    // 12 s of the lon sweep (trim pad, then the low-frequency start) and 8 s of verification.
+    let train = simulate(&dir, "identification", "1", "12");
+    let verify = simulate(&dir, "verification", "2", "8");
+    let lines = std::fs::read_to_string(&train)
+        .expect("log")
+        .lines()
+        .count();
+    assert_eq!(lines, 1 + 600, "header + 50 Hz x 12 s");
+
+    let out = dir.join("out");
+    let o = run(bin()
+        .args(["identify", "--train"])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out)
+        .args(["--window", "1"]));
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for state in [
+        "v_x (m/s)",
+        "v_y (m/s)",
+        "v_z (m/s)",
+        "q (deg/s)",
+        "r (deg/s)",
+        "p (deg/s)",
+    ] {
+        assert!(stdout.contains(state), "{state} missing:\n{stdout}");
+    }
+    assert!(stdout.contains("fuzzy RLS") && stdout.contains("improvement"));
+
+    let metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    let variants = metrics["variants"].as_array().expect("variants");
+    let names: Vec<&str> = variants.iter().filter_map(|v| v["name"].as_str()).collect();
+    assert_eq!(names, ["paper fuzzy", "paper plain"]);
+    for v in variants {
+        for key in ["hold_one_step", "one_step", "one_step_adapting", "free_run"] {
+            let arr = v[key].as_array().expect(key);
+            assert_eq!(arr.len(), 6);
+            for x in arr {
+                let x = x.as_f64().expect("number");
+                assert!(x.is_finite() && x > 0.0, "{key}: {x}");
+            }
+        }
+        assert_eq!(v["training"]["samples"], 600);
+        assert_eq!(v["training"]["updates"], 599);
+    }
+    // Table 4's improvement is computed from the two columns.
+    let t = &metrics["table4"];
+    let (f, p, i) = (
+        t["fuzzy"][3].as_f64().unwrap(),
+        t["plain"][3].as_f64().unwrap(),
+        t["improvement"][3].as_f64().unwrap(),
+    );
+    assert!((i - 100.0 * (p - f) / p).abs() < 1e-9);
+    for fig in [
+        "fig2_velocity.png",
+        "fig3_rates.png",
+        "fig4_velocity_error.png",
+        "fig5_rate_error.png",
+        "fig6_free_run.png",
+    ] {
+        let bytes = std::fs::read(out.join(fig)).expect(fig);
+        assert!(bytes.starts_with(b"\x89PNG"), "{fig}");
+    }
+
+    // Warm start from the exported parameters: the same training data again changes the
+    // fuzzy model's predictions (it starts from θ instead of 0).
+    let params = out.join("params-paper-fuzzy.json");
+    let exported: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&params).expect("params")).expect("json");
+    assert_eq!(exported.as_array().map(Vec::len), Some(4));
+    let out2 = dir.join("out2");
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--train"])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out2)
+        .arg("--warm-start")
+        .arg(&params));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m2: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out2.join("metrics.json")).expect("metrics"))
+            .expect("json");
+    assert_eq!(m2["variants"][0]["training"]["samples"], 600);
+    assert_ne!(
+        m2["variants"][0]["one_step"],
+        metrics["variants"][0]["one_step"]
+    );
+    assert_eq!(
+        m2["variants"][1]["one_step"],
+        metrics["variants"][1]["one_step"]
+    );
+
+    // A wrong-shaped warm start is an error, not a panic.
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--train"])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out2)
+        .arg("--warm-start")
+        .arg(out.join("params-paper-plain.json")));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("warm start"),
+        "{}",
+        text(&o.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+const HEADER: &str = "time_s,u_col,u_ped,u_lon,u_lat,roll_rad,pitch_rad,yaw_rad,v_north_mps,v_east_mps,v_down_mps,p_radps,q_radps,r_radps";
+
+fn rows(n: usize) -> Vec<String> {
+    (0..n)
+        .map(|k| {
+            format!(
+                "{},0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03",
+                k as f64 * 0.02
+            )
+        })
+        .collect()
+}
+
+/// Writes `content` as a log and runs `identify` with it as the verification log (the
+/// training log is valid); returns stderr after checking the exit code and that the file is
+/// named.
+fn malformed(dir: &Path, name: &str, content: &str) -> String {
+    let good = dir.join("good.csv");
+    std::fs::write(&good, format!("{HEADER}\n{}\n", rows(20).join("\n"))).expect("write");
+    let bad = dir.join(format!("{name}.csv"));
+    std::fs::write(&bad, content).expect("write");
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--train"])
+        .arg(&good)
+        .arg("--verify")
+        .arg(&bad)
+        .arg("--out")
+        .arg(dir.join("out")));
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{name}: {err}");
+    assert!(!err.contains("panicked"), "{name}: {err}");
+    assert!(err.contains(&format!("{name}.csv")), "{name}: {err}");
+    err
+}
+
+fn with_row(k: usize, row: &str) -> String {
+    let mut r = rows(10);
+    r[k] = row.to_string();
+    format!("{HEADER}\n{}\n", r.join("\n"))
+}
+
+#[test]
+fn malformed_logs_give_positioned_errors() {
+    let dir = tmpdir("bad");
+
+    let e = malformed(&dir, "empty", "");
+    assert!(e.contains("empty file"), "{e}");
+
+    let header = HEADER.replace(",q_radps", "");
+    let body: Vec<String> = rows(5)
+        .iter()
+        .map(|r| r.replacen(",0.02,0.03", ",0.03", 1))
+        .collect();
+    let e = malformed(&dir, "missing", &format!("{header}\n{}\n", body.join("\n")));
+    assert!(
+        e.contains("line 1") && e.contains("missing column `q_radps`"),
+        "{e}"
+    );
+
+    let e = malformed(
+        &dir,
+        "text",
+        &with_row(4, "0.08,0.5,0.4,abc,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
+    );
+    assert!(
+        e.contains("line 6, column 4 (`u_lon`): not a number: `abc`"),
+        "{e}"
+    );
+
+    let e = malformed(
+        &dir,
+        "nan",
+        &with_row(2, "0.04,0.5,0.4,0,0.03,0.08,0,0,NaN,0,0,0.01,0.02,0.03"),
+    );
+    assert!(
+        e.contains("line 4, column 9 (`v_north_mps`): not finite"),
+        "{e}"
+    );
+
+    let e = malformed(
+        &dir,
+        "backwards",
+        &with_row(5, "0.06,0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
+    );
+    assert!(
+        e.contains("line 7, column 1 (`time_s`)") && e.contains("does not increase"),
+        "{e}"
+    );
+
+    let e = malformed(
+        &dir,
+        "gap",
+        &with_row(9, "0.5,0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
+    );
+    assert!(
+        e.contains("line 11, column 1 (`time_s`)") && e.contains("gap"),
+        "{e}"
+    );
+
+    let e = malformed(&dir, "short", &with_row(3, "0.06,0.5,0.4"));
+    assert!(e.contains("line 5") && e.contains("column"), "{e}");
+
+    // A rate column in deg/s: by its header, or by its values.
+    let e = malformed(
+        &dir,
+        "degheader",
+        &format!(
+            "{}\n{}\n",
+            HEADER.replace("r_radps", "r_degps"),
+            rows(5).join("\n")
+        ),
+    );
+    assert!(
+        e.contains("column 14 (`r_degps`)") && e.contains("`r_radps`"),
+        "{e}"
+    );
+    let e = malformed(
+        &dir,
+        "degvalues",
+        &with_row(1, "0.02,0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,120"),
+    );
+    assert!(
+        e.contains("line 3, column 14 (`r_radps`)") && e.contains("degrees"),
+        "{e}"
+    );
+
+    let e = malformed(&dir, "headeronly", &format!("{HEADER}\n"));
+    assert!(e.contains("no samples"), "{e}");
+
+    let o = run(bin()
+        .args(["identify", "--verify", "x.csv", "--train"])
+        .arg(dir.join("nonexistent.csv")));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("nonexistent.csv"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
