@@ -81,7 +81,7 @@ fn scaling_changes_no_prediction_beyond_rounding() {
     // Parameters in physical units agree too.
     let (sq, pq) = (scaled.pitch_model().ts(), plain.pitch_model().ts());
     for rule in 0..18 {
-        for term in 0..4 {
+        for term in 0..5 {
             let (a, b) = (
                 sq.physical_parameter(rule, term).unwrap(),
                 pq.physical_parameter(rule, term).unwrap(),
@@ -129,7 +129,8 @@ where
 #[test]
 fn extended_structures_recover_the_parameters_that_generated_their_data() {
     // Truth: physical damping −0.1 per step on every rate, −0.05 on every velocity, control
-    // gains, small couplings and trims; the same value for every rule.
+    // gains, collective torque, small couplings, trims and side force; the same value for
+    // every rule.
     fn truth_state<const N: usize, const NP: usize>(
         mut st: rotorid::RlsState<f64, N, NP>,
         per_term: &[f64],
@@ -140,9 +141,9 @@ fn extended_structures_recover_the_parameters_that_generated_their_data() {
         }
         st
     }
-    // Scaled coordinates (θ̃ = α S_s/S_y): rates S = [100, 0.05, 10, 1], S_y = 1;
-    // velocity S = [0.5, 1, 1, 1, 1, 1, 1], S_y = 0.05.
-    let rate = [0.001 * 100.0, 8.0 * 0.05, -0.1 * 10.0, 0.05];
+    // Scaled coordinates (θ̃ = α S_s/S_y): rates S = [100, 0.05, 10, 0.5, 1], S_y = 1;
+    // velocity S = [0.5, 1, 1, 1, 1, 1, 0.3], S_y = 0.05.
+    let rate = [0.001 * 100.0, 8.0 * 0.05, -0.1 * 10.0, 0.5 * 0.5, 0.05];
     let vel = [
         0.3 * 0.5 / 0.05,
         -0.15 / 0.05,
@@ -150,7 +151,7 @@ fn extended_structures_recover_the_parameters_that_generated_their_data() {
         -0.05 / 0.05,
         -0.05 / 0.05,
         0.01 / 0.05,
-        -0.01 / 0.05,
+        0.02 * 0.3 / 0.05,
     ];
 
     let cfg = config(RegressorScaling::Helicopter);

@@ -158,23 +158,23 @@ pub type PaperPlainIdentifier<T> = HoverIdentifier<
 
 /// The extended structure (damping and trim terms, [`RateStructure::Extended`],
 /// [`VelocityStructure::Extended`]) with fuzzy rule bases: Table 3's sets for the rates
-/// (18, 9, 9 rules × 4 terms) and Table 3's `ṽ_y` sets for the velocity (3 rules × 7 terms;
+/// (18, 9, 9 rules × 5 terms) and Table 3's `ṽ_y` sets for the velocity (3 rules × 7 terms;
 /// the thrust per unit collective varies with the vertical inflow, while drag is linear).
 pub type ExtendedFuzzyIdentifier<T> = HoverIdentifier<
     T,
     VelocityModel<T, 3, 7, 21, 231>,
-    RateModel<T, 18, 4, 72, 2628>,
-    RateModel<T, 9, 4, 36, 666>,
-    RateModel<T, 9, 4, 36, 666>,
+    RateModel<T, 18, 5, 90, 4095>,
+    RateModel<T, 9, 5, 45, 1035>,
+    RateModel<T, 9, 5, 45, 1035>,
 >;
 
 /// The extended structure with a single rule per model (a linear model with damping and trim).
 pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
     T,
     VelocityModel<T, 1, 7, 7, 28>,
-    RateModel<T, 1, 4, 4, 10>,
-    RateModel<T, 1, 4, 4, 10>,
-    RateModel<T, 1, 4, 4, 10>,
+    RateModel<T, 1, 5, 5, 15>,
+    RateModel<T, 1, 5, 5, 15>,
+    RateModel<T, 1, 5, 5, 15>,
 >;
 
 /// Builds the four models of an identifier from rule bases and structures.

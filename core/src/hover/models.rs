@@ -41,11 +41,14 @@ pub enum VelocityStructure {
     /// Eq. 27: per rule `α1` (thrust along the rotor axis `R e2`, all three outputs) and `α2`
     /// (weight, `v_y` only). `D = 2`, terms `[e·u_col, 1]`.
     Paper,
-    /// Eq. 27 plus per-axis drag and an affine (trim) term on each axis: per rule
-    /// `[α1, α2, d_x, d_y, d_z, c_x, c_z]` with `v̂_x(k+1) = v_x + α1 e_x u_col + d_x v_x + c_x`,
-    /// `v̂_y(k+1) = v_y + α1 e_y u_col + α2 + d_y v_y`, `v̂_z(k+1) = v_z + α1 e_z u_col + d_z v_z
-    /// + c_z`. The drag terms model fuselage and rotor damping; the affine terms absorb the
-    /// trim tilt against the tail rotor that Eq. 27 turns into a bias. `D = 7`.
+    /// Eq. 27 plus per-axis drag and the tail rotor's side force: per rule
+    /// `[α1, α2, d_x, d_y, d_z, σ0, σ1]` with
+    /// `v̂(k+1) = v + α1 (R e2) u_col + α2 e2 + diag(d_x, d_y, d_z) v + (σ0 + σ1 u_ped) R e1`.
+    /// `R e1` is the body's right axis in inertial axes (the first column of the paper's R).
+    /// The drag terms model fuselage and rotor damping. The side-force terms are Eq. 13's tail
+    /// rotor thrust `T_T = K_T u_ped` along `−i_b`, which Eq. 15 neglects: in hover it balances
+    /// the trim roll against the tail rotor, and without it Eq. 27 leaves a bias that turns
+    /// with the heading (an affine term fixed in the body frame, not the inertial one). `D = 7`.
     Extended,
 }
 
@@ -59,11 +62,12 @@ impl VelocityStructure {
     }
 
     /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): thrust term
-    /// `e·u_col` 0.5, constants 1, velocities 1 m/s; target `Δv` 0.05 m/s per step.
+    /// `e·u_col` 0.5, constants and axes 1, velocities 1 m/s, `u_ped` terms 0.3; target `Δv`
+    /// 0.05 m/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
         let nominal: &[f64] = match self {
             Self::Paper => &[0.5, 1.0],
-            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -83,6 +87,15 @@ pub fn rotor_axis<T: Real>(roll: T, pitch: T, yaw: T) -> [T; 3] {
     let (st, ct) = (pitch.sin(), pitch.cos());
     let (sp, cp) = (yaw.sin(), yaw.cos());
     [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp]
+}
+
+/// The body's right axis `i_b` in inertial paper axes: `R e1 = [cφcψ + sφsθsψ, −sφcθ,
+/// cφsψ − sφsθcψ]` (the first column of the paper's R).
+pub fn right_axis<T: Real>(roll: T, pitch: T, yaw: T) -> [T; 3] {
+    let (sf, cf) = (roll.sin(), roll.cos());
+    let (st, ct) = (pitch.sin(), pitch.cos());
+    let (sp, cp) = (yaw.sin(), yaw.cos());
+    [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp]
 }
 
 /// Translational model (Eq. 27): premise `v^s(k)`, three outputs `v_x, v_y, v_z` sharing θ.
@@ -133,24 +146,25 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         let mut terms = [[T::zero(); D]; 3];
         let a = &s.attitude;
         let e = rotor_axis(a.roll, a.pitch, a.yaw);
+        let side = right_axis(a.roll, a.pitch, a.yaw);
         let one = T::one();
-        for (out, (t, (&ei, &v))) in terms
+        for (out, (t, ((&ei, &v), &si))) in terms
             .iter_mut()
-            .zip(e.iter().zip(s.velocity.iter()))
+            .zip(e.iter().zip(s.velocity.iter()).zip(side.iter()))
             .enumerate()
         {
-            // Which slot each output's own terms occupy: [α1, α2, d_x, d_y, d_z, c_x, c_z].
-            let own: &[(usize, T)] = match (self.structure, out) {
-                (VelocityStructure::Paper, 1) => &[(1, one)],
-                (VelocityStructure::Paper, _) => &[],
-                (VelocityStructure::Extended, 0) => &[(2, v), (5, one)],
-                (VelocityStructure::Extended, 1) => &[(1, one), (3, v)],
-                (VelocityStructure::Extended, _) => &[(4, v), (6, one)],
-            };
             if let Some(x) = t.get_mut(0) {
                 *x = ei * s.controls.col;
             }
-            for &(slot, value) in own {
+            // Slots [α1, α2, d_x, d_y, d_z, σ0, σ1]: α2 only in v_y, each drag in its own
+            // output, the side force in all three.
+            let weight = if out == 1 { Some((1, one)) } else { None };
+            let extended = [(2 + out, v), (5, si), (6, si * s.controls.ped)];
+            let own: &[(usize, T)] = match self.structure {
+                VelocityStructure::Paper => &[],
+                VelocityStructure::Extended => &extended,
+            };
+            for &(slot, value) in weight.iter().chain(own.iter()) {
                 if let Some(x) = t.get_mut(slot) {
                     *x = value;
                 }
@@ -247,11 +261,12 @@ pub enum RateStructure {
     /// Eqs. 28–30: per rule an inertia-coupling coefficient `𝕀^i` (gyroscopic product of
     /// the other two rates) and a control gain `γ^i`. `D = 2`.
     Paper,
-    /// Eqs. 28–30 plus a damping term in the model's own rate and an affine (trim) term:
-    /// per rule `[𝕀, γ, δ, c]`, e.g. `q̂(k+1) = q + 𝕀 r p + γ u_lon u_col + δ q + c`.
-    /// Rotorcraft damp their rates strongly (rotor flapping, Eqs. 6–7), which the paper's
-    /// structure can only fold into the control gain; the affine term absorbs trim moments.
-    /// `D = 4`.
+    /// Eqs. 28–30 plus a damping term in the model's own rate, the collective term `B′u_col`
+    /// of Eq. 20 that Eq. 26 drops, and an affine (trim) term: per rule `[𝕀, γ, δ, β, c]`,
+    /// e.g. `q̂(k+1) = q + 𝕀 r p + γ u_lon u_col + δ q + β u_col + c`. Rotorcraft damp their
+    /// rates strongly (rotor flapping, Eqs. 6–7), which the paper's structure can only fold
+    /// into the control gain; the main rotor's torque changes with collective, which drives
+    /// yaw; the affine term absorbs trim moments. `D = 5`.
     Extended,
 }
 
@@ -260,17 +275,17 @@ impl RateStructure {
     pub const fn terms(self) -> usize {
         match self {
             Self::Paper => 2,
-            Self::Extended => 4,
+            Self::Extended => 5,
         }
     }
 
     /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): rate products
-    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, constants 1; target `Δω` 1 deg/s
-    /// per step.
+    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, collective 0.5, constants 1;
+    /// target `Δω` 1 deg/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
         let nominal: &[f64] = match self {
             Self::Paper => &[100.0, 0.05],
-            Self::Extended => &[100.0, 0.05, 10.0, 1.0],
+            Self::Extended => &[100.0, 0.05, 10.0, 0.5, 1.0],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -344,11 +359,8 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
             RateAxis::Yaw => [q * p, u.ped],
             RateAxis::Roll => [q * r, u.lat * u.col],
         };
-        let all = [cross, control, self.rate(s), T::one()];
-        let used = match self.structure {
-            RateStructure::Paper => 2,
-            RateStructure::Extended => 4,
-        };
+        let all = [cross, control, self.rate(s), u.col, T::one()];
+        let used = self.structure.terms();
         let mut terms = [T::zero(); D];
         for (t, &x) in terms.iter_mut().zip(all.iter().take(used)) {
             *t = x;
