@@ -12,7 +12,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::{syst::SystClkSource, SCB, SYST};
 use cortex_m_rt::exception;
-use rotorid::telemetry::msg::FaultKind;
+use rotorid::telemetry::msg::{FaultKind, MemoryReport};
 
 /// Core clock of the mps2-an386 model, in Hz. SysTick counts this clock.
 pub const CORE_HZ: u32 = 25_000_000;
@@ -246,6 +246,10 @@ impl crate::link::Platform for Stopwatch {
         (r, t)
     }
 
+    fn memory(&self) -> MemoryReport {
+        memory_report()
+    }
+
     fn inject_fault(&mut self, kind: FaultKind) -> ! {
         match kind {
             FaultKind::HardFault => {
@@ -253,7 +257,10 @@ impl crate::link::Platform for Stopwatch {
                 // UsageFault is disabled, so the undefined instruction escalates to HardFault.
                 cortex_m::asm::udf()
             }
-            _ => panic!("fault injection: deliberate panic"),
+            _ => {
+                defmt::error!("fault injection: deliberate panic");
+                panic!("fault injection: deliberate panic")
+            }
         }
     }
 }
@@ -296,6 +303,69 @@ unsafe fn DefaultHandler(irqn: i16) {
 
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    defmt::error!("panic: {}", defmt::Display2Format(info));
+    // Only the location: formatting the message would link core::fmt (≈ 3 KiB of flash).
+    match info.location() {
+        Some(l) => defmt::error!("panic at {=str}:{=u32}", l.file(), l.line()),
+        None => defmt::error!("panic"),
+    }
     exit(EXIT_PANIC)
 }
+
+// ---- stack painting -----------------------------------------------------------------------
+
+/// Word the free stack is filled with at boot.
+const STACK_PAINT: u32 = 0x5AC3_A55A;
+/// Bytes below the current stack pointer left unpainted (the painting function's own frame).
+const PAINT_MARGIN: usize = 64;
+
+extern "C" {
+    // Provided by cortex-m-rt's link.x: initial SP (top of RAM), lowest stack address (end of
+    // static RAM) and start of RAM data.
+    static _stack_start: u32;
+    static _stack_end: u32;
+    static __sdata: u32;
+}
+
+fn stack_bounds() -> (usize, usize, usize) {
+    // Only the addresses of the linker symbols are taken, never their contents.
+    (
+        core::ptr::addr_of!(__sdata) as usize,
+        core::ptr::addr_of!(_stack_end) as usize,
+        core::ptr::addr_of!(_stack_start) as usize,
+    )
+}
+
+/// Fills the unused stack (from the end of static RAM up to just below the current stack
+/// pointer) with [`STACK_PAINT`]. Call first thing in `main`.
+#[inline(never)]
+pub fn paint_stack() {
+    let (_, bottom, _) = stack_bounds();
+    let sp = cortex_m::register::msp::read() as usize;
+    let top = sp.saturating_sub(PAINT_MARGIN) & !3;
+    let mut p = bottom;
+    while p < top {
+        // SAFETY: [bottom, top) is free stack below the live frames: nothing else uses it.
+        unsafe { write_volatile(p as *mut u32, STACK_PAINT) };
+        p += 4;
+    }
+}
+
+/// Stack size, deepest use since boot (lowest overwritten word of the paint), static RAM.
+pub fn memory_report() -> MemoryReport {
+    let (data, bottom, top) = stack_bounds();
+    let mut p = bottom;
+    // SAFETY: reads words of the stack region, all initialised (painted or used).
+    while p < top && unsafe { read_volatile(p as *const u32) } == STACK_PAINT {
+        p += 4;
+    }
+    let u = |x: usize| u32::try_from(x).unwrap_or(u32::MAX);
+    MemoryReport {
+        stack_size: u(top - bottom),
+        stack_peak: u(top - p),
+        static_ram: u(bottom - data),
+        ram_size: RAM_SIZE,
+    }
+}
+
+/// The RAM budget of `memory.x`, in bytes (the QEMU build links with more, see build.rs).
+pub const RAM_SIZE: u32 = 32 * 1024;

@@ -11,10 +11,13 @@ use embedded_io::{Read, Write};
 use rotorid::telemetry::{
     self,
     msg::{
-        CostReport, CostRequest, FaultKind, Hello, MsgType, Nack, NackReason, StatsReport, Workload,
+        Ack, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest, MemoryReport,
+        MsgType, Nack, NackReason, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
+
+use crate::ident::{Engine, Reply};
 
 /// What the link needs from the MCU besides the byte stream.
 pub trait Platform {
@@ -22,6 +25,8 @@ pub trait Platform {
     fn measure<R>(&mut self, f: impl FnOnce() -> R) -> (R, u64);
     /// Crashes on purpose (test hook for the panic and fault paths).
     fn inject_fault(&mut self, kind: FaultKind) -> !;
+    /// RAM use: stack region, stack high-water mark, static data.
+    fn memory(&self) -> MemoryReport;
 }
 
 /// Firmware name sent in `Hello`.
@@ -41,17 +46,19 @@ struct AppCounters {
 pub struct Link<U, P> {
     io: U,
     platform: P,
+    engine: &'static mut Engine,
     decoder: FrameDecoder,
     tx: FrameEncoder,
     counters: AppCounters,
 }
 
 impl<U: Read + Write, P: Platform> Link<U, P> {
-    /// A link over `io`.
-    pub fn new(io: U, platform: P) -> Self {
+    /// A link over `io` serving `engine`.
+    pub fn new(io: U, platform: P, engine: &'static mut Engine) -> Self {
         Self {
             io,
             platform,
+            engine,
             decoder: FrameDecoder::new(),
             tx: FrameEncoder::new(),
             counters: AppCounters::default(),
@@ -84,7 +91,7 @@ impl<U: Read + Write, P: Platform> Link<U, P> {
         let n = match self.io.read(&mut rx) {
             Ok(n) => n,
             Err(e) => {
-                defmt::warn!("read error: {}", defmt::Debug2Format(&e));
+                defmt::warn!("read error: {}", embedded_io::Error::kind(&e) as u8);
                 self.counters.uart_errors = self.counters.uart_errors.wrapping_add(1);
                 return;
             }
@@ -93,6 +100,7 @@ impl<U: Read + Write, P: Platform> Link<U, P> {
             let Self {
                 io,
                 platform,
+                engine,
                 decoder,
                 tx,
                 counters,
@@ -118,7 +126,7 @@ impl<U: Read + Write, P: Platform> Link<U, P> {
                         out.nack(seq, MsgType::StatsRequest.code(), NackReason::BadPayload);
                     }
                 }
-                Some(Ok(frame)) => handle(frame, platform, &mut Out::new(io, tx, counters)),
+                Some(Ok(frame)) => handle(frame, platform, engine, &mut Out::new(io, tx, counters)),
             }
         }
     }
@@ -170,7 +178,7 @@ impl<'a, U: Write> Out<'a, U> {
         match self.tx.encode(t.code(), payload, &mut wire) {
             Ok(bytes) => {
                 if let Err(e) = self.io.write_all(bytes) {
-                    defmt::warn!("write error: {}", defmt::Debug2Format(&e));
+                    defmt::warn!("write error: {}", embedded_io::Error::kind(&e) as u8);
                     self.counters.uart_errors = self.counters.uart_errors.wrapping_add(1);
                 }
             }
@@ -179,9 +187,72 @@ impl<'a, U: Write> Out<'a, U> {
     }
 }
 
+impl<U: Write> Reply for Out<'_, U> {
+    fn reply(
+        &mut self,
+        t: MsgType,
+        build: &mut dyn FnMut(&mut Writer<'_>) -> Result<(), PayloadError>,
+    ) {
+        Out::reply(self, t, build)
+    }
+
+    fn ack(&mut self, seq: u16, msg_type: u8) {
+        let ack = Ack { seq, msg_type };
+        Out::reply(self, MsgType::Ack, |w| ack.write(w));
+    }
+
+    fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason) {
+        Out::nack(self, seq, msg_type, reason)
+    }
+}
+
 /// Dispatches one valid frame (other than `StatsRequest`).
-fn handle<U: Write, P: Platform>(frame: Frame<'_>, platform: &mut P, out: &mut Out<'_, U>) {
+fn handle<U: Write, P: Platform>(
+    frame: Frame<'_>,
+    platform: &mut P,
+    engine: &mut Engine,
+    out: &mut Out<'_, U>,
+) {
+    let (seq, code) = (frame.seq, frame.msg_type);
     match frame.kind() {
+        Some(MsgType::Sample) => match SampleMsg::read(frame.payload) {
+            Ok(m) => {
+                let est = engine.sample(&m, &mut |f| platform.measure(f).1);
+                out.reply(MsgType::Estimate, |w| est.write(w));
+            }
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::Reset) => match ResetMsg::read(frame.payload) {
+            Ok(m) => match engine.reset(m.form) {
+                Ok(()) => Reply::ack(out, seq, code),
+                Err(e) => {
+                    defmt::error!("reset failed: {}", e);
+                    out.nack(seq, code, NackReason::Refused)
+                }
+            },
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::ParamsRequest) => match IdentRequest::read(frame.payload) {
+            Ok(r) => engine.params(seq, r.ident, out),
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::ExportRequest) => match IdentRequest::read(frame.payload) {
+            Ok(r) => engine.export(seq, r.ident, out),
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::ImportChunk) => match DataChunk::read(frame.payload) {
+            Ok(c) => engine.import_chunk(seq, &c, out),
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::SweepStart) => match SweepStart::read(frame.payload) {
+            Ok(s) => engine.sweep(seq, &s, out),
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::MemoryRequest) if frame.payload.is_empty() => {
+            let m = platform.memory();
+            out.reply(MsgType::Memory, |w| m.write(w));
+        }
+        Some(MsgType::MemoryRequest) => out.nack(seq, code, NackReason::BadPayload),
         Some(MsgType::Ping) => out.send(MsgType::Pong, frame.payload),
         Some(MsgType::CostRequest) => match CostRequest::read(frame.payload) {
             Ok(req) => {
@@ -198,8 +269,7 @@ fn handle<U: Write, P: Platform>(frame: Frame<'_>, platform: &mut P, out: &mut O
             },
             _ => out.nack(frame.seq, frame.msg_type, NackReason::BadPayload),
         },
-        // Everything else, including the reserved identification messages, is not handled
-        // by this firmware yet.
+        // Replies sent to the firmware, and types this build does not know.
         _ => {
             defmt::warn!("unhandled message type {=u8:#04x}", frame.msg_type);
             out.nack(frame.seq, frame.msg_type, NackReason::UnknownType);

@@ -9,6 +9,7 @@
 //! * [`board`]: everything specific to the mps2-an386 model (UART, SysTick, exit path, fault
 //!   handlers). Replace it for another board.
 //! * [`link`]: the board-agnostic application, generic over `embedded_io::{Read, Write}`.
+//! * [`ident`]: the onboard identifiers (fuzzy + plain) and the identification messages.
 //!
 //! ## Running it on a real flight computer
 //!
@@ -32,6 +33,7 @@
 #![no_main]
 
 mod board;
+mod ident;
 mod link;
 
 use cortex_m_rt::entry;
@@ -41,9 +43,23 @@ use embedded_hal::delay::DelayNs;
 
 #[entry]
 fn main() -> ! {
+    // First, before anything deep runs: fill the free stack with a pattern (high-water mark).
+    board::paint_stack();
     let Some(cp) = cortex_m::Peripherals::take() else {
         board::exit(board::EXIT_INIT)
     };
+    let Some(engine) = ident::Engine::take() else {
+        defmt::error!("identifier construction failed");
+        board::exit(board::EXIT_INIT)
+    };
+    let boot = board::memory_report();
+    defmt::info!(
+        "stack used by start-up (identifier construction): {=u32} B",
+        boot.stack_peak
+    );
+    // Paint again: `MemoryRequest` then reports the high-water mark of the link + identification
+    // service alone (start-up's construction transient is logged above and in docs/cost.md).
+    board::paint_stack();
     // SAFETY: UART0 is used by nothing else in this program.
     let uart = unsafe { board::CmsdkUart::new(board::UART0_BASE, board::CORE_HZ, board::BAUD) };
     let stopwatch = board::Stopwatch::new(cp.SYST);
@@ -54,5 +70,5 @@ fn main() -> ! {
         rotorid::telemetry::VERSION,
         board::UART0_BASE
     );
-    link::Link::new(uart, stopwatch).run()
+    link::Link::new(uart, stopwatch, engine).run()
 }

@@ -5,7 +5,9 @@ pub mod experiments;
 pub mod firmware_link;
 pub mod golden;
 pub mod log;
+pub mod onboard;
 pub mod plant;
+pub mod precision;
 pub mod reference;
 pub mod report;
 

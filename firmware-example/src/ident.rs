@@ -1,0 +1,464 @@
+//! Onboard identification: the two identifiers and the handlers of the identification
+//! messages (board-agnostic, like [`crate::link`]).
+//!
+//! * `Sample` → `Estimate`: one sample stepped through the fuzzy identifier (U-D default or
+//!   the paper's covariance form, chosen by `Reset`) and the plain baseline, each timed.
+//!   A sample the core rejects leaves both identifiers unchanged (the core's contract) and
+//!   the reply says which `rotorid::Error`.
+//! * `ParamsRequest` → `Params`…: θ, diag(P) and a summary of each of the four models.
+//! * `ExportRequest` → `ExportChunk`…: the identifier's state as a byte stream with CRC,
+//!   read straight from the estimators (no copy of the 10.5 KiB state).
+//! * `ImportChunk`…: warm start of the plain identifier (staged, CRC-checked, then imported).
+//!   The fuzzy identifier refuses imports in this firmware: staging its 10.5 KiB snapshot next
+//!   to the live identifier, plus the rollback copy `HoverIdentifier::import` keeps on the
+//!   stack, needs ≈ 33 KiB, more than the 32 KiB RAM budget (see `docs/protocol.md`).
+//! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
+
+use core::mem::MaybeUninit;
+use core::sync::atomic::{AtomicBool, Ordering};
+
+use rotorid::hover::HoverSnapshot;
+use rotorid::rls::Rls;
+use rotorid::sweep::SweepSchedule;
+use rotorid::telemetry::msg::{
+    self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
+    RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+};
+use rotorid::telemetry::{Reader, Writer};
+use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+
+/// Bytes of the plain identifier's snapshot stream: 4 models × (5 + 4 × (2 + 3)).
+pub const PLAIN_SNAPSHOT_LEN: usize = 4 * (5 + 4 * (2 + 3));
+
+/// Staging area of an import into the plain identifier.
+struct ImportStage {
+    buf: [u8; PLAIN_SNAPSHOT_LEN],
+    received: usize,
+    total: u32,
+    crc: u32,
+}
+
+/// Everything the identification messages act on.
+///
+/// Lives in a static and is built in place ([`Engine::take`]): a `PaperFuzzyIdentifier<f32>`
+/// is 11 KiB, and every by-value move of one during construction would cost that much stack.
+/// The identifiers are kept as the `Result`s their constructors returned (always `Ok` after
+/// a successful [`Engine::take`]) so that they never have to be moved out.
+pub struct Engine {
+    fuzzy: Result<PaperFuzzyIdentifier<f32>, Error>,
+    plain: Result<PaperPlainIdentifier<f32>, Error>,
+    form: RlsForm,
+    stage: Option<ImportStage>,
+}
+
+/// `paper_fuzzy(c)` written straight into `dst` (the call's return slot is `dst`).
+#[inline(never)]
+fn build_fuzzy(
+    dst: &mut MaybeUninit<Result<PaperFuzzyIdentifier<f32>, Error>>,
+    c: HoverConfig<f32>,
+) {
+    dst.write(PaperFuzzyIdentifier::paper_fuzzy(c));
+}
+
+/// `paper_plain(c)` written straight into `dst`.
+#[inline(never)]
+fn build_plain(
+    dst: &mut MaybeUninit<Result<PaperPlainIdentifier<f32>, Error>>,
+    c: HoverConfig<f32>,
+) {
+    dst.write(PaperPlainIdentifier::paper_plain(c));
+}
+
+/// Overwrites an initialised value in place through `build` (no drop needed: the
+/// identifiers own no resources).
+fn rebuild<T>(slot: &mut T, build: impl FnOnce(&mut MaybeUninit<T>)) {
+    // SAFETY: `MaybeUninit<T>` has the layout of `T`; `build` leaves a valid `T` behind
+    // (it always writes), so `slot` is initialised again when the borrow ends.
+    let m = unsafe { &mut *(slot as *mut T).cast::<MaybeUninit<T>>() };
+    build(m);
+}
+
+static ENGINE_TAKEN: AtomicBool = AtomicBool::new(false);
+static mut ENGINE: MaybeUninit<Engine> = MaybeUninit::uninit();
+
+fn config(form: RlsForm) -> HoverConfig<f32> {
+    match form {
+        RlsForm::PaperCovariance => HoverConfig::paper(),
+        _ => HoverConfig::default(),
+    }
+}
+
+/// The reply path the handlers need (implemented by the link's `Out`).
+pub trait Reply {
+    /// Sends a frame whose payload `build` writes.
+    fn reply(
+        &mut self,
+        t: MsgType,
+        build: &mut dyn FnMut(&mut Writer<'_>) -> Result<(), rotorid::telemetry::PayloadError>,
+    );
+    /// Acknowledges request `seq` of type `msg_type`.
+    fn ack(&mut self, seq: u16, msg_type: u8);
+    /// Refuses request `seq` of type `msg_type`.
+    fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason);
+}
+
+/// Prediction and innovation of one call, or the core's error.
+type StepResult = Result<([f32; 6], Option<[f32; 6]>), Error>;
+
+fn state6(s: &HoverState<f32>) -> [f32; 6] {
+    s.to_array()
+}
+
+fn ticks32(t: u64) -> u32 {
+    u32::try_from(t).unwrap_or(u32::MAX)
+}
+
+impl Engine {
+    /// The engine, built in its static home with the default (U-D) form; `None` on a second
+    /// call or if the core refuses the configuration.
+    pub fn take() -> Option<&'static mut Engine> {
+        if ENGINE_TAKEN.swap(true, Ordering::AcqRel) {
+            return None;
+        }
+        // SAFETY: the flag above hands out the one `&'static mut` exactly once.
+        let slot: &'static mut MaybeUninit<Engine> =
+            unsafe { &mut *core::ptr::addr_of_mut!(ENGINE) };
+        let p = slot.as_mut_ptr();
+        let c = config(RlsForm::UdDefault);
+        // SAFETY: fields of the static are written in place, each exactly once, before the
+        // reference to the whole is created.
+        unsafe {
+            build_fuzzy(&mut *core::ptr::addr_of_mut!((*p).fuzzy).cast(), c);
+            build_plain(&mut *core::ptr::addr_of_mut!((*p).plain).cast(), c);
+            core::ptr::addr_of_mut!((*p).form).write(RlsForm::UdDefault);
+            core::ptr::addr_of_mut!((*p).stage).write(None);
+        }
+        // SAFETY: every field was initialised above.
+        let engine = unsafe { slot.assume_init_mut() };
+        (engine.fuzzy.is_ok() && engine.plain.is_ok()).then_some(engine)
+    }
+
+    /// `Sample`: runs both identifiers, each under `measure`.
+    pub fn sample(
+        &mut self,
+        m: &SampleMsg,
+        measure: &mut dyn FnMut(&mut dyn FnMut()) -> u64,
+    ) -> msg::Estimate {
+        let s = &m.sample;
+        let mut fuzzy = None;
+        let mut plain = None;
+        let tf = {
+            let id = &mut self.fuzzy;
+            let out = &mut fuzzy;
+            measure(&mut || {
+                *out = Some(match id {
+                    Err(e) => Err(*e),
+                    Ok(id) => match m.mode {
+                        SampleMode::Predict => id.predict(s).map(|p| (state6(&p), None)),
+                        SampleMode::Resume => id.resume(s).map(|p| (state6(&p), None)),
+                        _ => id
+                            .step(s)
+                            .map(|o| (state6(&o.prediction), o.innovation.as_ref().map(state6))),
+                    },
+                })
+            })
+        };
+        let tp = {
+            let id = &mut self.plain;
+            let out = &mut plain;
+            measure(&mut || {
+                *out = Some(match id {
+                    Err(e) => Err(*e),
+                    Ok(id) => match m.mode {
+                        SampleMode::Predict => id.predict(s).map(|p| (state6(&p), None)),
+                        SampleMode::Resume => id.resume(s).map(|p| (state6(&p), None)),
+                        _ => id
+                            .step(s)
+                            .map(|o| (state6(&o.prediction), o.innovation.as_ref().map(state6))),
+                    },
+                })
+            })
+        };
+        let output = |r: Option<StepResult>, t: u64| match r {
+            Some(Ok((prediction, innovation))) => IdOutput {
+                prediction,
+                innovation,
+                error: None,
+                ticks: ticks32(t),
+            },
+            Some(Err(e)) => IdOutput::rejected(e, ticks32(t)),
+            // The measured closure always runs; this only keeps the code panic-free.
+            None => IdOutput::rejected(Error::Numerical, ticks32(t)),
+        };
+        msg::Estimate {
+            time_us: s.time_us,
+            mode: m.mode,
+            fuzzy: output(fuzzy, tf),
+            plain: output(plain, tp),
+        }
+    }
+
+    /// `Reset`: both identifiers back to θ = 0, P = αI in `form`.
+    pub fn reset(&mut self, form: RlsForm) -> Result<(), Error> {
+        self.stage = None;
+        if form == self.form {
+            if let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) {
+                f.reset();
+                p.reset();
+                return Ok(());
+            }
+        }
+        // New estimator form: rebuild in place.
+        let c = config(form);
+        rebuild(&mut self.fuzzy, |m| build_fuzzy(m, c));
+        rebuild(&mut self.plain, |m| build_plain(m, c));
+        self.form = form;
+        match (&self.fuzzy, &self.plain) {
+            (Err(e), _) | (_, Err(e)) => Err(*e),
+            _ => Ok(()),
+        }
+    }
+
+    fn fuzzy_views(&self) -> Option<[ModelView<'_>; 4]> {
+        let f = self.fuzzy.as_ref().ok()?;
+        Some([
+            view(f.velocity_model().ts().rls()),
+            view(f.pitch_model().ts().rls()),
+            view(f.yaw_model().ts().rls()),
+            view(f.roll_model().ts().rls()),
+        ])
+    }
+
+    fn plain_views(&self) -> Option<[ModelView<'_>; 4]> {
+        let p = self.plain.as_ref().ok()?;
+        Some([
+            view(p.velocity_model().ts().rls()),
+            view(p.pitch_model().ts().rls()),
+            view(p.yaw_model().ts().rls()),
+            view(p.roll_model().ts().rls()),
+        ])
+    }
+
+    /// `ParamsRequest`: θ, diag(P) and summary of each model, in order.
+    pub fn params(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
+        match (ident, &self.fuzzy, &self.plain) {
+            (Ident::Plain, _, Ok(p)) => {
+                dump(out, ident, 0, p.velocity_model().ts().rls());
+                dump(out, ident, 1, p.pitch_model().ts().rls());
+                dump(out, ident, 2, p.yaw_model().ts().rls());
+                dump(out, ident, 3, p.roll_model().ts().rls());
+            }
+            (Ident::Fuzzy, Ok(f), _) => {
+                dump(out, ident, 0, f.velocity_model().ts().rls());
+                dump(out, ident, 1, f.pitch_model().ts().rls());
+                dump(out, ident, 2, f.yaw_model().ts().rls());
+                dump(out, ident, 3, f.roll_model().ts().rls());
+            }
+            _ => out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused),
+        }
+    }
+
+    /// `ExportRequest`: the snapshot stream in `ExportChunk`s.
+    pub fn export(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
+        let views = match ident {
+            Ident::Plain => self.plain_views(),
+            _ => self.fuzzy_views(),
+        };
+        let Some(views) = views else {
+            out.nack(seq, MsgType::ExportRequest.code(), NackReason::Refused);
+            return;
+        };
+        let total = msg::snapshot_len(&views);
+        let crc = msg::snapshot_crc(&views);
+        let mut offset = 0usize;
+        loop {
+            let mut data = [0u8; DataChunk::MAX_DATA];
+            let n = msg::snapshot_read(&views, offset, &mut data);
+            let chunk = DataChunk {
+                ident,
+                offset: offset as u32,
+                total: total as u32,
+                crc,
+                data: data.get(..n).unwrap_or_default(),
+            };
+            out.reply(MsgType::ExportChunk, &mut |w| chunk.write(w));
+            offset += n;
+            if n == 0 || offset >= total {
+                break;
+            }
+        }
+    }
+
+    /// `ImportChunk`: stages chunks in order; the last one is CRC-checked and imported.
+    pub fn import_chunk(&mut self, seq: u16, c: &DataChunk<'_>, out: &mut dyn Reply) {
+        let code = MsgType::ImportChunk.code();
+        if c.ident != Ident::Plain {
+            out.nack(seq, code, NackReason::Refused);
+            return;
+        }
+        if c.offset == 0 {
+            if c.total as usize != PLAIN_SNAPSHOT_LEN {
+                self.stage = None;
+                out.nack(seq, code, NackReason::BadPayload);
+                return;
+            }
+            self.stage = Some(ImportStage {
+                buf: [0; PLAIN_SNAPSHOT_LEN],
+                received: 0,
+                total: c.total,
+                crc: c.crc,
+            });
+        }
+        let Some(st) = self.stage.as_mut() else {
+            out.nack(seq, code, NackReason::BadPayload);
+            return;
+        };
+        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
+        let end = st.received + c.data.len();
+        let dst = st.buf.get_mut(st.received..end);
+        match (in_order, dst) {
+            (true, Some(dst)) => {
+                dst.copy_from_slice(c.data);
+                st.received = end;
+            }
+            _ => {
+                self.stage = None;
+                out.nack(seq, code, NackReason::BadPayload);
+                return;
+            }
+        }
+        if st.received < st.total as usize {
+            out.ack(seq, code);
+            return;
+        }
+        let result = if msg::stream_crc(&st.buf) != st.crc {
+            Err(NackReason::BadPayload)
+        } else {
+            parse_plain(&st.buf).ok_or(NackReason::BadPayload)
+        };
+        self.stage = None;
+        let plain = &mut self.plain;
+        match result.and_then(|snap| {
+            plain
+                .as_mut()
+                .map_err(|e| *e)
+                .and_then(|p| p.import(&snap))
+                .map_err(|e| {
+                    defmt::warn!("import refused by the core: {}", e);
+                    NackReason::Refused
+                })
+        }) {
+            Ok(()) => out.ack(seq, code),
+            Err(reason) => out.nack(seq, code, reason),
+        }
+    }
+
+    /// `SweepStart`: streams the requested part of Table 2's schedule, then acknowledges.
+    pub fn sweep(&self, seq: u16, s: &SweepStart, out: &mut dyn Reply) {
+        let code = MsgType::SweepStart.code();
+        let amps = s.amplitudes.map(f64::from);
+        let Ok(schedule) = SweepSchedule::table2(amps, u32::from(s.rate_hz)) else {
+            out.nack(seq, code, NackReason::BadPayload);
+            return;
+        };
+        let total = schedule.len();
+        let end = s.start.saturating_add(s.count);
+        for k in s.start..end {
+            let Some(e) = schedule.at(k) else { break };
+            let m = SweepSample {
+                k,
+                total,
+                channel: e.channel,
+                offset: e.offset,
+            };
+            out.reply(MsgType::SweepSample, &mut |w| m.write(w));
+        }
+        out.ack(seq, code);
+    }
+}
+
+fn view<const N: usize, const NP: usize>(rls: &Rls<f32, N, NP>) -> ModelView<'_> {
+    ModelView {
+        algorithm: rls.config().algorithm,
+        updates: rls.counters().updates,
+        theta: rls.parameters(),
+        factor: rls.packed_factor(),
+    }
+}
+
+type PlainSnapshot = HoverSnapshot<
+    rotorid::RlsState<f32, 2, 3>,
+    rotorid::RlsState<f32, 2, 3>,
+    rotorid::RlsState<f32, 2, 3>,
+    rotorid::RlsState<f32, 2, 3>,
+>;
+
+fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
+    let mut r = Reader::new(bytes);
+    let velocity = msg::read_rls_state(&mut r).ok()?;
+    let pitch = msg::read_rls_state(&mut r).ok()?;
+    let yaw = msg::read_rls_state(&mut r).ok()?;
+    let roll = msg::read_rls_state(&mut r).ok()?;
+    r.finish().ok()?;
+    Some(HoverSnapshot {
+        velocity,
+        pitch,
+        yaw,
+        roll,
+    })
+}
+
+/// Sends one model's θ, diag(P) and summary as `Params` chunks.
+fn dump<const N: usize, const NP: usize>(
+    out: &mut dyn Reply,
+    ident: Ident,
+    model: u8,
+    rls: &Rls<f32, N, NP>,
+) {
+    let diag = rls.covariance_diagonal();
+    for (field, values) in [
+        (ParamField::Theta, rls.parameters()),
+        (ParamField::CovarianceDiagonal, &diag),
+    ] {
+        for (i, part) in values.chunks(ParamsChunk::MAX_WORDS).enumerate() {
+            let mut words = [0u8; 4 * ParamsChunk::MAX_WORDS];
+            for (dst, v) in words.chunks_exact_mut(4).zip(part) {
+                dst.copy_from_slice(&v.to_bits().to_le_bytes());
+            }
+            let c = ParamsChunk {
+                ident,
+                model,
+                field,
+                index: (i * ParamsChunk::MAX_WORDS) as u16,
+                total: N as u16,
+                words: words.get(..4 * part.len()).unwrap_or_default(),
+            };
+            out.reply(MsgType::Params, &mut |w| c.write(w));
+        }
+    }
+    let counters = rls.counters();
+    let algorithm = match rls.config().algorithm {
+        rotorid::Algorithm::Covariance => 0u32,
+        rotorid::Algorithm::UdFactor => 1,
+    };
+    let summary = [
+        rls.trace().to_bits(),
+        counters.updates,
+        counters.windup_guards,
+        counters.last_innovation.to_bits(),
+        algorithm,
+    ];
+    let mut words = [0u8; 4 * ParamsChunk::SUMMARY_WORDS];
+    for (dst, v) in words.chunks_exact_mut(4).zip(summary) {
+        dst.copy_from_slice(&v.to_le_bytes());
+    }
+    let c = ParamsChunk {
+        ident,
+        model,
+        field: ParamField::Summary,
+        index: 0,
+        total: ParamsChunk::SUMMARY_WORDS as u16,
+        words: &words,
+    };
+    out.reply(MsgType::Params, &mut |w| c.write(w));
+}

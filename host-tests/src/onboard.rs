@@ -1,0 +1,572 @@
+//! Onboard identification over the telemetry link, checked bit for bit against the host.
+//!
+//! [`Onboard`] boots `firmware-example` in QEMU ([`FirmwareLink`]), streams samples as
+//! `Sample` frames (pipelined, a few frames in flight), and compares every `Estimate` with
+//! [`Mirror`], the very same computation (`PaperFuzzyIdentifier<f32>` +
+//! `PaperPlainIdentifier<f32>`) in the host build. The first differing bit stops the stream
+//! with a [`Mismatch`] that says where: sample index, time stamp, identifier, field, both bit
+//! patterns.
+
+use std::collections::VecDeque;
+use std::fmt;
+
+use rotorid::hover::HoverSample;
+use rotorid::telemetry::msg::{
+    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, ModelView,
+    MsgType, Nack, ParamField, ParamsChunk, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
+    SweepStart,
+};
+use rotorid::telemetry::Writer;
+use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+
+use crate::firmware_link::{BootOptions, FirmwareLink, LinkError, OwnedFrame};
+use crate::plant::flight::{simulate, verification_excitation, FlightConfig};
+
+/// Frames in flight while streaming (the firmware answers in order).
+pub const WINDOW: usize = 8;
+
+/// The first difference between the firmware and the host.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mismatch {
+    /// Index of the sample in the stream.
+    pub index: usize,
+    /// Its time stamp.
+    pub time_us: u64,
+    /// What differs (identifier and field).
+    pub what: String,
+    /// Host value, as bits or text.
+    pub host: String,
+    /// Firmware value.
+    pub firmware: String,
+}
+
+impl fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "sample {} (t = {} µs): {} differs: host {}, firmware {}",
+            self.index, self.time_us, self.what, self.host, self.firmware
+        )
+    }
+}
+
+/// Errors of the onboard driver.
+#[derive(Debug, thiserror::Error)]
+pub enum OnboardError {
+    /// The link failed (QEMU, socket, timeout, protocol).
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    /// The firmware computed something else than the host.
+    #[error("bit-for-bit check failed: {0}")]
+    Mismatch(Box<Mismatch>),
+    /// A reply did not parse or did not fit the request.
+    #[error("protocol: {0}")]
+    Protocol(String),
+    /// The host mirror could not be built.
+    #[error("core: {0}")]
+    Core(rotorid::Error),
+}
+
+fn config(form: RlsForm) -> HoverConfig<f32> {
+    match form {
+        RlsForm::PaperCovariance => HoverConfig::paper(),
+        _ => HoverConfig::default(),
+    }
+}
+
+/// The host build of the firmware's computation.
+pub struct Mirror {
+    /// Takagi-Sugeno identifier.
+    pub fuzzy: PaperFuzzyIdentifier<f32>,
+    /// Single-rule baseline.
+    pub plain: PaperPlainIdentifier<f32>,
+}
+
+type StepResult = Result<([f32; 6], Option<[f32; 6]>), rotorid::Error>;
+
+fn to_output(r: StepResult) -> IdOutput {
+    match r {
+        Ok((prediction, innovation)) => IdOutput {
+            prediction,
+            innovation,
+            error: None,
+            ticks: 0,
+        },
+        Err(e) => IdOutput::rejected(e, 0),
+    }
+}
+
+fn s6(s: &HoverState<f32>) -> [f32; 6] {
+    s.to_array()
+}
+
+impl Mirror {
+    /// Fresh identifiers in `form` (as after the firmware's `Reset`).
+    pub fn new(form: RlsForm) -> Result<Self, rotorid::Error> {
+        let c = config(form);
+        Ok(Self {
+            fuzzy: PaperFuzzyIdentifier::paper_fuzzy(c)?,
+            plain: PaperPlainIdentifier::paper_plain(c)?,
+        })
+    }
+
+    /// What the firmware answers to `m` (ticks 0).
+    pub fn apply(&mut self, m: &SampleMsg) -> Estimate {
+        let s = &m.sample;
+        let (f, p): (StepResult, StepResult) = match m.mode {
+            SampleMode::Predict => (
+                self.fuzzy.predict(s).map(|x| (s6(&x), None)),
+                self.plain.predict(s).map(|x| (s6(&x), None)),
+            ),
+            SampleMode::Resume => (
+                self.fuzzy.resume(s).map(|x| (s6(&x), None)),
+                self.plain.resume(s).map(|x| (s6(&x), None)),
+            ),
+            _ => (
+                self.fuzzy
+                    .step(s)
+                    .map(|o| (s6(&o.prediction), o.innovation.as_ref().map(s6))),
+                self.plain
+                    .step(s)
+                    .map(|o| (s6(&o.prediction), o.innovation.as_ref().map(s6))),
+            ),
+        };
+        Estimate {
+            time_us: s.time_us,
+            mode: m.mode,
+            fuzzy: to_output(f),
+            plain: to_output(p),
+        }
+    }
+}
+
+const STATES: [&str; 6] = ["v_x", "v_y", "v_z", "q", "r", "p"];
+
+fn hex(x: f32) -> String {
+    format!("{:08x}", x.to_bits())
+}
+
+/// Compares everything but the tick counts, bit for bit; returns the first difference.
+pub fn compare(index: usize, host: &Estimate, fw: &Estimate) -> Result<(), Box<Mismatch>> {
+    let mm = |what: String, h: String, f: String| {
+        Err(Box::new(Mismatch {
+            index,
+            time_us: host.time_us,
+            what,
+            host: h,
+            firmware: f,
+        }))
+    };
+    if host.time_us != fw.time_us || host.mode != fw.mode {
+        return mm(
+            "reply order (time stamp, mode)".into(),
+            format!("{} {:?}", host.time_us, host.mode),
+            format!("{} {:?}", fw.time_us, fw.mode),
+        );
+    }
+    for (name, h, f) in [
+        ("fuzzy", &host.fuzzy, &fw.fuzzy),
+        ("plain", &host.plain, &fw.plain),
+    ] {
+        if h.error != f.error {
+            return mm(
+                format!("{name} error"),
+                format!("{:?}", h.error),
+                format!("{:?}", f.error),
+            );
+        }
+        for (i, state) in STATES.iter().enumerate() {
+            if h.prediction[i].to_bits() != f.prediction[i].to_bits() {
+                return mm(
+                    format!("{name} prediction {state}"),
+                    hex(h.prediction[i]),
+                    hex(f.prediction[i]),
+                );
+            }
+        }
+        match (h.innovation, f.innovation) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                for (i, state) in STATES.iter().enumerate() {
+                    if a[i].to_bits() != b[i].to_bits() {
+                        return mm(format!("{name} innovation {state}"), hex(a[i]), hex(b[i]));
+                    }
+                }
+            }
+            (a, b) => {
+                return mm(
+                    format!("{name} innovation presence"),
+                    format!("{}", a.is_some()),
+                    format!("{}", b.is_some()),
+                )
+            }
+        }
+    }
+    Ok(())
+}
+
+/// θ, diag(P) and the summary of one model, as dumped by `ParamsRequest`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelParams {
+    /// θ.
+    pub theta: Vec<f32>,
+    /// diag(P).
+    pub diagonal: Vec<f32>,
+    /// trace(P), updates, windup guards, last innovation (bits), algorithm.
+    pub summary: [u32; ParamsChunk::SUMMARY_WORDS],
+}
+
+/// Params of the four models (velocity, q̂, r̂, p̂).
+pub type Params = [ModelParams; 4];
+
+fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelParams {
+    let c = r.counters();
+    ModelParams {
+        theta: r.parameters().to_vec(),
+        diagonal: r.covariance_diagonal().to_vec(),
+        summary: [
+            r.trace().to_bits(),
+            c.updates,
+            c.windup_guards,
+            c.last_innovation.to_bits(),
+            u32::from(r.config().algorithm == rotorid::Algorithm::UdFactor),
+        ],
+    }
+}
+
+fn view<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelView<'_> {
+    ModelView {
+        algorithm: r.config().algorithm,
+        updates: r.counters().updates,
+        theta: r.parameters(),
+        factor: r.packed_factor(),
+    }
+}
+
+impl Mirror {
+    /// What `ParamsRequest{ident}` dumps.
+    pub fn params(&self, ident: Ident) -> Params {
+        match ident {
+            Ident::Plain => {
+                let p = &self.plain;
+                [
+                    summary(p.velocity_model().ts().rls()),
+                    summary(p.pitch_model().ts().rls()),
+                    summary(p.yaw_model().ts().rls()),
+                    summary(p.roll_model().ts().rls()),
+                ]
+            }
+            _ => {
+                let f = &self.fuzzy;
+                [
+                    summary(f.velocity_model().ts().rls()),
+                    summary(f.pitch_model().ts().rls()),
+                    summary(f.yaw_model().ts().rls()),
+                    summary(f.roll_model().ts().rls()),
+                ]
+            }
+        }
+    }
+
+    /// What `ExportRequest{ident}` streams.
+    pub fn export(&self, ident: Ident) -> Vec<u8> {
+        let views = match ident {
+            Ident::Plain => {
+                let p = &self.plain;
+                [
+                    view(p.velocity_model().ts().rls()),
+                    view(p.pitch_model().ts().rls()),
+                    view(p.yaw_model().ts().rls()),
+                    view(p.roll_model().ts().rls()),
+                ]
+            }
+            _ => {
+                let f = &self.fuzzy;
+                [
+                    view(f.velocity_model().ts().rls()),
+                    view(f.pitch_model().ts().rls()),
+                    view(f.yaw_model().ts().rls()),
+                    view(f.roll_model().ts().rls()),
+                ]
+            }
+        };
+        let mut out = vec![0u8; msg::snapshot_len(&views)];
+        let n = msg::snapshot_read(&views, 0, &mut out);
+        out.truncate(n);
+        out
+    }
+}
+
+/// Encodes a payload.
+pub fn payload(
+    f: impl FnOnce(&mut Writer<'_>) -> Result<(), rotorid::telemetry::PayloadError>,
+) -> Vec<u8> {
+    let mut buf = [0u8; rotorid::telemetry::MAX_PAYLOAD];
+    let mut w = Writer::new(&mut buf);
+    // Only a message larger than a frame fails, which none of ours is.
+    let _ = f(&mut w);
+    w.written().to_vec()
+}
+
+/// Firmware in QEMU + host mirror.
+pub struct Onboard {
+    /// The link.
+    pub link: FirmwareLink,
+    /// The host's copy of the computation.
+    pub mirror: Mirror,
+    /// Samples streamed since the last reset.
+    pub streamed: usize,
+}
+
+/// What streaming returned.
+#[derive(Clone, Debug, Default)]
+pub struct StreamResult {
+    /// The firmware's estimates, in order (all bit-identical to the host's).
+    pub estimates: Vec<Estimate>,
+}
+
+impl Onboard {
+    /// Boots the firmware (plain QEMU, or `-icount shift=0`) with identifiers in `form`.
+    pub fn boot(form: RlsForm, icount: bool) -> Result<Self, OnboardError> {
+        let opts = if icount {
+            BootOptions::icount()
+        } else {
+            BootOptions::default()
+        };
+        let link = FirmwareLink::boot_with(&opts)?;
+        let mut me = Self {
+            link,
+            mirror: Mirror::new(RlsForm::UdDefault).map_err(OnboardError::Core)?,
+            streamed: 0,
+        };
+        me.reset(form)?;
+        Ok(me)
+    }
+
+    /// Resets both sides to `form`.
+    pub fn reset(&mut self, form: RlsForm) -> Result<(), OnboardError> {
+        let p = payload(|w| ResetMsg { form }.write(w));
+        let f = self.link.request(MsgType::Reset, &p, MsgType::Ack)?;
+        expect_ack(&f, MsgType::Reset)?;
+        self.mirror = Mirror::new(form).map_err(OnboardError::Core)?;
+        self.streamed = 0;
+        Ok(())
+    }
+
+    /// Streams `samples` (each with its mode), compares each reply with the host, calls
+    /// `progress(done)` now and then. Stops at the first differing bit.
+    pub fn stream(
+        &mut self,
+        samples: &[SampleMsg],
+        mut progress: impl FnMut(usize),
+    ) -> Result<StreamResult, OnboardError> {
+        let mut in_flight: VecDeque<(usize, Estimate)> = VecDeque::new();
+        let mut out = StreamResult {
+            estimates: Vec::with_capacity(samples.len()),
+        };
+        let mut next = 0;
+        while next < samples.len() || !in_flight.is_empty() {
+            while next < samples.len() && in_flight.len() < WINDOW {
+                let m = &samples[next];
+                let host = self.mirror.apply(m);
+                self.link
+                    .send(MsgType::Sample.code(), &payload(|w| m.write(w)))?;
+                in_flight.push_back((self.streamed + next, host));
+                next += 1;
+            }
+            let f = self.link.recv()?;
+            let est = match f.kind() {
+                Some(MsgType::Estimate) => Estimate::read(&f.payload)
+                    .map_err(|e| OnboardError::Protocol(format!("Estimate payload: {e}")))?,
+                _ => {
+                    return Err(OnboardError::Protocol(format!(
+                        "expected Estimate, got {:?} {:02x?}",
+                        f.kind(),
+                        f.payload
+                    )))
+                }
+            };
+            let Some((index, host)) = in_flight.pop_front() else {
+                return Err(OnboardError::Protocol("unsolicited Estimate".into()));
+            };
+            compare(index, &host, &est).map_err(OnboardError::Mismatch)?;
+            out.estimates.push(est);
+            if out.estimates.len().is_multiple_of(64) {
+                progress(out.estimates.len());
+            }
+        }
+        progress(out.estimates.len());
+        self.streamed += samples.len();
+        Ok(out)
+    }
+
+    /// The firmware's parameter dump of `ident`.
+    pub fn params(&mut self, ident: Ident) -> Result<Params, OnboardError> {
+        self.link.send(
+            MsgType::ParamsRequest.code(),
+            &payload(|w| IdentRequest { ident }.write(w)),
+        )?;
+        let mut params: Params = Default::default();
+        loop {
+            let f = self.link.recv()?;
+            if f.kind() != Some(MsgType::Params) {
+                return Err(OnboardError::Protocol(format!(
+                    "expected Params, got {:?}",
+                    f.kind()
+                )));
+            }
+            let c = ParamsChunk::read(&f.payload)
+                .map_err(|e| OnboardError::Protocol(format!("Params payload: {e}")))?;
+            let m = &mut params[usize::from(c.model)];
+            let words: Vec<u32> = c.iter().collect();
+            match c.field {
+                ParamField::Theta => {
+                    m.theta.resize(usize::from(c.total), 0.0);
+                    for (i, w) in words.iter().enumerate() {
+                        m.theta[usize::from(c.index) + i] = f32::from_bits(*w);
+                    }
+                }
+                ParamField::CovarianceDiagonal => {
+                    m.diagonal.resize(usize::from(c.total), 0.0);
+                    for (i, w) in words.iter().enumerate() {
+                        m.diagonal[usize::from(c.index) + i] = f32::from_bits(*w);
+                    }
+                }
+                _ => {
+                    for (i, w) in words.iter().enumerate().take(ParamsChunk::SUMMARY_WORDS) {
+                        m.summary[i] = *w;
+                    }
+                    if c.model == 3 {
+                        return Ok(params);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The firmware's export stream of `ident` (CRC and length checked).
+    pub fn export(&mut self, ident: Ident) -> Result<Vec<u8>, OnboardError> {
+        self.link.send(
+            MsgType::ExportRequest.code(),
+            &payload(|w| IdentRequest { ident }.write(w)),
+        )?;
+        let mut bytes = Vec::new();
+        loop {
+            let f = self.link.recv()?;
+            let c = match f.kind() {
+                Some(MsgType::ExportChunk) => DataChunk::read(&f.payload)
+                    .map_err(|e| OnboardError::Protocol(format!("ExportChunk: {e}")))?,
+                k => {
+                    return Err(OnboardError::Protocol(format!(
+                        "expected ExportChunk, got {k:?}"
+                    )))
+                }
+            };
+            if c.offset as usize != bytes.len() {
+                return Err(OnboardError::Protocol(format!(
+                    "ExportChunk offset {} after {} bytes",
+                    c.offset,
+                    bytes.len()
+                )));
+            }
+            bytes.extend_from_slice(c.data);
+            if bytes.len() >= c.total as usize {
+                if msg::stream_crc(&bytes) != c.crc {
+                    return Err(OnboardError::Protocol("export CRC mismatch".into()));
+                }
+                return Ok(bytes);
+            }
+        }
+    }
+
+    /// Sends an import stream in `ImportChunk`s; returns the firmware's answer to each chunk
+    /// (`Ok(())` for Ack, `Err(reason)` for Nack). Stops at the first Nack.
+    pub fn import(
+        &mut self,
+        ident: Ident,
+        bytes: &[u8],
+        crc: u32,
+    ) -> Result<Result<(), u8>, OnboardError> {
+        let total = bytes.len() as u32;
+        let mut offset = 0usize;
+        loop {
+            let end = (offset + DataChunk::MAX_DATA).min(bytes.len());
+            let c = DataChunk {
+                ident,
+                offset: offset as u32,
+                total,
+                crc,
+                data: &bytes[offset..end],
+            };
+            self.link
+                .send(MsgType::ImportChunk.code(), &payload(|w| c.write(w)))?;
+            let f = self.link.recv()?;
+            match f.kind() {
+                Some(MsgType::Ack) => {}
+                Some(MsgType::Nack) => {
+                    let n = Nack::read(&f.payload)
+                        .map_err(|e| OnboardError::Protocol(format!("Nack: {e}")))?;
+                    return Ok(Err(n.reason));
+                }
+                k => return Err(OnboardError::Protocol(format!("import answered by {k:?}"))),
+            }
+            offset = end;
+            if offset >= bytes.len() {
+                return Ok(Ok(()));
+            }
+        }
+    }
+
+    /// Runs the onboard sweep generator; returns its samples.
+    pub fn sweep(&mut self, req: &SweepStart) -> Result<Vec<SweepSample>, OnboardError> {
+        self.link
+            .send(MsgType::SweepStart.code(), &payload(|w| req.write(w)))?;
+        let mut out = Vec::new();
+        loop {
+            let f = self.link.recv()?;
+            match f.kind() {
+                Some(MsgType::SweepSample) => out.push(
+                    SweepSample::read(&f.payload)
+                        .map_err(|e| OnboardError::Protocol(format!("SweepSample: {e}")))?,
+                ),
+                Some(MsgType::Ack) => {
+                    expect_ack(&f, MsgType::SweepStart)?;
+                    return Ok(out);
+                }
+                k => return Err(OnboardError::Protocol(format!("sweep answered by {k:?}"))),
+            }
+        }
+    }
+
+    /// Stack high-water mark and RAM layout.
+    pub fn memory(&mut self) -> Result<MemoryReport, OnboardError> {
+        let f = self
+            .link
+            .request(MsgType::MemoryRequest, &[], MsgType::Memory)?;
+        MemoryReport::read(&f.payload).map_err(|e| OnboardError::Protocol(format!("Memory: {e}")))
+    }
+}
+
+fn expect_ack(f: &OwnedFrame, t: MsgType) -> Result<(), OnboardError> {
+    match Ack::read(&f.payload) {
+        Ok(a) if a.msg_type == t.code() => Ok(()),
+        r => Err(OnboardError::Protocol(format!("bad Ack for {t:?}: {r:?}"))),
+    }
+}
+
+/// Wraps samples as `Sample` messages of one mode.
+pub fn messages(samples: &[HoverSample<f32>], mode: SampleMode) -> Vec<SampleMsg> {
+    samples
+        .iter()
+        .map(|&sample| SampleMsg { mode, sample })
+        .collect()
+}
+
+/// A simulated flight of `duration_s` (realistic sensors, turbulence, the verification
+/// manoeuvres: doublets and 3-2-1-1s on all channels), as core samples.
+pub fn simulated_flight(seed: u64, duration_s: f64) -> Result<Vec<HoverSample<f32>>, String> {
+    let cfg = FlightConfig::realistic(seed, duration_s);
+    let mut exc = verification_excitation(seed, duration_s);
+    let log = simulate(&cfg, &mut exc).map_err(|e| format!("{e}"))?;
+    Ok(crate::experiments::to_hover_samples(&log))
+}
