@@ -410,11 +410,21 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// Imports a state exported by an estimator of the same algorithm and size (warm start).
-    /// The state is checked: every entry finite, every diagonal entry at most
-    /// [`COVARIANCE_LIMIT`], and for the U-D form every `D_j ≥ 0` (an invariant of that form;
-    /// the covariance form in f32 may legitimately have lost definiteness). On `Err` nothing
+    /// The state is checked first ([`check_import`](Self::check_import)); on `Err` nothing
     /// changed.
     pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
+        self.check_import(state)?;
+        self.theta = state.theta;
+        self.factor = state.factor;
+        self.counters.updates = state.updates;
+        Ok(())
+    }
+
+    /// The checks of [`import`](Self::import): the same algorithm, every entry finite, every
+    /// diagonal entry at most [`COVARIANCE_LIMIT`], and for the U-D form every `D_j ≥ 0` (an
+    /// invariant of that form; the covariance form in f32 may legitimately have lost
+    /// definiteness).
+    pub fn check_import(&self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
         if state.algorithm != self.config.algorithm {
             return Err(Error::Incompatible);
         }
@@ -437,9 +447,15 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 return Err(Error::OutOfRange(Quantity::Covariance(k as u16)));
             }
         }
-        self.theta = state.theta;
-        self.factor = state.factor;
-        self.counters.updates = state.updates;
+        Ok(())
+    }
+
+    /// Replaces the settings and starts afresh (θ = 0, P = αI), in place. On `Err` nothing
+    /// changed.
+    pub fn reconfigure(&mut self, config: RlsConfig<T>) -> Result<(), Error> {
+        config.validate()?;
+        self.config = config;
+        self.reset();
         Ok(())
     }
 

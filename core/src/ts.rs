@@ -232,6 +232,23 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
         self.rls.import(state)
     }
+
+    /// The checks of [`import`](Self::import), without importing.
+    pub fn check_import(&self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
+        self.rls.check_import(state)
+    }
+
+    /// New estimator settings and scales, in place, starting afresh. On `Err` nothing changed.
+    pub fn reconfigure(
+        &mut self,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<(), Error> {
+        config.validate()?;
+        scaling.validate()?;
+        self.scaling = scaling;
+        self.rls.reconfigure(config)
+    }
 }
 
 /// A checked update of M outputs, ready to [`TsRls::apply`].

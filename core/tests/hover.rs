@@ -288,3 +288,42 @@ fn plain_and_fuzzy_share_one_api_and_warm_start_is_exact() {
         );
     }
 }
+
+#[test]
+fn reconfigure_in_place_equals_a_fresh_identifier() {
+    let mut id = PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::default()).unwrap();
+    for k in 0..30 {
+        id.step(&sample(k)).unwrap();
+    }
+    id.reconfigure(HoverConfig::paper()).unwrap();
+    assert_eq!(
+        id,
+        PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::paper()).unwrap()
+    );
+    let before = id.clone();
+    let mut bad = HoverConfig::<f32>::paper();
+    bad.rls.initial_covariance = -1.0;
+    assert!(id.reconfigure(bad).is_err());
+    assert_eq!(id, before);
+}
+
+#[test]
+fn import_checks_every_model_before_writing_any() {
+    let mut a = PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::default()).unwrap();
+    for k in 0..40 {
+        a.step(&sample(k)).unwrap();
+    }
+    let mut b = PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::default()).unwrap();
+    let before = b.clone();
+    let mut snap = a.export();
+    snap.roll.theta[3] = f32::NAN; // the last model checked is bad
+    assert_eq!(
+        b.import(&snap),
+        Err(Error::NonFinite(Quantity::Parameter(3)))
+    );
+    assert_eq!(b, before);
+    // One model at a time, through the mutable accessors.
+    use rotorid::hover::StateModel;
+    b.velocity_model_mut().import(&a.export().velocity).unwrap();
+    assert_eq!(b.export().velocity, a.export().velocity);
+}

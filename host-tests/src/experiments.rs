@@ -23,7 +23,10 @@ use rotorid::hover::{
 };
 use rotorid::rls::{Algorithm, RlsState};
 use rotorid::sweep::{Channel as SweepChannel, Sweep, SweepSchedule};
-use rotorid::{HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    PaperPlainIdentifier,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::plant::{
@@ -472,18 +475,36 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "paper fuzzy",
             description:
-                "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6",
+                "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6, unscaled",
             build: || {
                 Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
-                    HoverConfig::default(),
+                    HoverConfig::paper_robust(),
                 )?))
             },
         },
         Variant {
             name: "paper plain",
-            description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6",
+            description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6, unscaled",
             build: || {
                 Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
+                    HoverConfig::paper_robust(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended fuzzy",
+            description: "rates + damping, collective torque, trim (Table 3 sets, 18+9+9 rules); velocity + drag, tail-rotor side force (v_y sets, 3 rules); U-D RLS, helicopter scaling",
+            build: || {
+                Ok(Box::new(ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended plain",
+            description: "the extended terms with one rule per model; U-D RLS, helicopter scaling",
+            build: || {
+                Ok(Box::new(ExtendedPlainIdentifier::<f32>::extended_plain(
                     HoverConfig::default(),
                 )?))
             },

@@ -63,6 +63,9 @@ pub struct Metrics {
     pub variants: Vec<VariantResult>,
     /// Table 4 analogue (first two variants).
     pub table4: Option<Table4>,
+    /// f32 against f64 parameter agreement of the extended structures.
+    #[serde(default)]
+    pub precision: Vec<crate::precision::PrecisionResult>,
 }
 
 /// State labels `name (unit)`.
@@ -426,6 +429,88 @@ fn list(v: &[String]) -> String {
     }
 }
 
+/// The issue-5 targets, checked on the metrics: the extended structure's free-run error on
+/// q, r, p against the paper's (same rule layout: fuzzy with fuzzy, plain with plain), its
+/// one-step error against hold on every state, and f32 against f64.
+pub fn extended_markdown(m: &Metrics) -> String {
+    let find = |name: &str| m.variants.iter().find(|v| v.name == name);
+    let mark = |ok: bool| if ok { "✅" } else { "❌" };
+    let mut s = String::new();
+    s += "Free run over the verification flight, extended against the paper's structure (ratio below 0.5 = at least halved):
+
+";
+    s += "| pair | q ratio | r ratio | p ratio |
+|---|---:|---:|---:|
+";
+    for (ext, paper) in [
+        ("extended fuzzy", "paper fuzzy"),
+        ("extended plain", "paper plain"),
+    ] {
+        if let (Some(e), Some(p)) = (find(ext), find(paper)) {
+            let cells: Vec<String> = (3..6)
+                .map(|i| {
+                    let r = e.free_run[i] / p.free_run[i];
+                    format!("{r:.2} {}", mark(r <= 0.5))
+                })
+                .collect();
+            s += &row(&format!("{ext} / {paper}"), &cells);
+        }
+    }
+    s += "
+One-step error (θ frozen) against the hold baseline on every state (ratio below 1 = beats hold):
+
+";
+    s += &format!(
+        "| variant | {} |
+|---|{}
+",
+        state_labels().join(" | "),
+        "---:|".repeat(6)
+    );
+    for name in [
+        "extended fuzzy",
+        "extended plain",
+        "paper fuzzy",
+        "paper plain",
+    ] {
+        if let Some(v) = find(name) {
+            let cells: Vec<String> = (0..6)
+                .map(|i| {
+                    let r = v.one_step[i] / v.hold_one_step[i];
+                    format!("{r:.3} {}", mark(r < 1.0))
+                })
+                .collect();
+            s += &row(name, &cells);
+        }
+    }
+    if !m.precision.is_empty() {
+        s += &format!(
+            "
+f32 against f64 after the identification flight (flight settings: U-D RLS, helicopter scaling), over the well-excited parameters (posterior variance below {:.0e} of the prior, magnitude above {:.0e} of the model's largest):
+
+",
+            crate::precision::WELL_EXCITED,
+            crate::precision::NEGLIGIBLE
+        );
+        s += "| variant | parameters | compared | max relative difference | median | target 1e-3 |
+|---|---:|---:|---:|---:|---|
+";
+        for p in &m.precision {
+            s += &format!(
+                "| {} | {} | {} | {:.2e} | {:.2e} | {} |
+",
+                p.variant,
+                p.parameters,
+                p.compared,
+                p.max_relative,
+                p.median_relative,
+                mark(p.max_relative <= 1e-3)
+            );
+        }
+    }
+    s
+}
+
 /// docs/results.md from the realistic and the clean run. Every number comes from the metrics.
 pub fn results_markdown(
     realistic: &Metrics,
@@ -449,6 +534,8 @@ pub fn results_markdown(
         ("{{TABLE4}}", table4_markdown(t)),
         ("{{TABLE4_CLEAN}}", table4_markdown(tc)),
         ("{{VARIANTS}}", variants_markdown(realistic)),
+        ("{{EXTENDED}}", extended_markdown(realistic)),
+        ("{{EXTENDED_CLEAN}}", extended_markdown(clean)),
         ("{{VARIANTS_CLEAN}}", variants_markdown(clean)),
         ("{{BETTER}}", list(&better)),
         ("{{WORSE}}", list(&worse)),

@@ -71,14 +71,14 @@ impl<T: Real> HoverConfig<T> {
         }
     }
 
-    fn velocity_scaling<const D: usize>(&self, s: VelocityStructure) -> Scaling<T, D> {
+    pub(crate) fn velocity_scaling<const D: usize>(&self, s: VelocityStructure) -> Scaling<T, D> {
         match self.scaling {
             RegressorScaling::None => Scaling::unit(),
             RegressorScaling::Helicopter => s.helicopter_scaling(),
         }
     }
 
-    fn rate_scaling<const D: usize>(&self, s: RateStructure) -> Scaling<T, D> {
+    pub(crate) fn rate_scaling<const D: usize>(&self, s: RateStructure) -> Scaling<T, D> {
         match self.scaling {
             RegressorScaling::None => Scaling::unit(),
             RegressorScaling::Helicopter => s.helicopter_scaling(),
@@ -420,34 +420,59 @@ where
     }
 
     /// Warm start from an exported snapshot. The sample chain restarts (the next step only
-    /// anchors). On `Err` nothing changed.
+    /// anchors). All four states are checked before any is written; on `Err` nothing changed.
     pub fn import(
         &mut self,
         snapshot: &HoverSnapshot<V::State, Q::State, R::State, P::State>,
     ) -> Result<(), Error> {
-        // Import into copies' worth of checks first: each import checks before writing, so
-        // import in an order where a later failure can be undone by re-importing the old state.
-        let old = self.export();
-        let result = self
-            .velocity
-            .import(&snapshot.velocity)
-            .and_then(|()| self.pitch.import(&snapshot.pitch))
-            .and_then(|()| self.yaw.import(&snapshot.yaw))
-            .and_then(|()| self.roll.import(&snapshot.roll));
-        match result {
-            Ok(()) => {
-                self.previous = None;
-                Ok(())
-            }
-            Err(e) => {
-                // Restoring a state that was valid a moment ago cannot fail.
-                let _ = self.velocity.import(&old.velocity);
-                let _ = self.pitch.import(&old.pitch);
-                let _ = self.yaw.import(&old.yaw);
-                let _ = self.roll.import(&old.roll);
-                Err(e)
-            }
-        }
+        self.velocity.check_import(&snapshot.velocity)?;
+        self.pitch.check_import(&snapshot.pitch)?;
+        self.yaw.check_import(&snapshot.yaw)?;
+        self.roll.check_import(&snapshot.roll)?;
+        self.velocity.import(&snapshot.velocity)?;
+        self.pitch.import(&snapshot.pitch)?;
+        self.yaw.import(&snapshot.yaw)?;
+        self.roll.import(&snapshot.roll)?;
+        self.previous = None;
+        Ok(())
+    }
+
+    /// Mutable access to the translational model, for importing one model at a time (a
+    /// firmware can stage one model's state instead of a whole snapshot). Importing a model
+    /// does not restart the sample chain.
+    pub fn velocity_model_mut(&mut self) -> &mut V {
+        &mut self.velocity
+    }
+
+    /// Mutable access to the q̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
+    pub fn pitch_model_mut(&mut self) -> &mut Q {
+        &mut self.pitch
+    }
+
+    /// Mutable access to the r̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
+    pub fn yaw_model_mut(&mut self) -> &mut R {
+        &mut self.yaw
+    }
+
+    /// Mutable access to the p̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
+    pub fn roll_model_mut(&mut self) -> &mut P {
+        &mut self.roll
+    }
+
+    /// New settings (RLS form, α, λ, scaling, sample period), in place: every model starts
+    /// afresh. Unlike building a new identifier this moves nothing, so a firmware needs no
+    /// second copy of the identifier on its stack. On `Err` nothing changed.
+    pub fn reconfigure(&mut self, config: HoverConfig<T>) -> Result<(), Error> {
+        config.validate()?;
+        // Every model validates the same RLS settings and its own scales, which are fixed
+        // constants: after the check above none of these can fail.
+        self.velocity.reconfigure(&config)?;
+        self.pitch.reconfigure(&config)?;
+        self.yaw.reconfigure(&config)?;
+        self.roll.reconfigure(&config)?;
+        self.config = config;
+        self.previous = None;
+        Ok(())
     }
 
     fn check_interval(&self, prev: &HoverSample<T>, next: &HoverSample<T>) -> Result<(), Error> {

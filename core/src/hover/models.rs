@@ -31,6 +31,10 @@ pub trait StateModel<T: Real> {
     fn export(&self) -> Self::State;
     /// Warm start from an exported state. On `Err` nothing changed.
     fn import(&mut self, state: &Self::State) -> Result<(), Error>;
+    /// The checks of [`import`](Self::import), without importing.
+    fn check_import(&self, state: &Self::State) -> Result<(), Error>;
+    /// New estimator settings (and the scales they imply), in place, starting afresh.
+    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
 }
 
 /// Consequent structure of the translational model.
@@ -215,6 +219,15 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
 
     fn import(&mut self, state: &Self::State) -> Result<(), Error> {
         self.ts.import(state)
+    }
+
+    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+        self.ts.check_import(state)
+    }
+
+    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
+        self.ts
+            .reconfigure(config.rls, config.velocity_scaling::<D>(self.structure))
     }
 }
 
@@ -416,5 +429,14 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
 
     fn import(&mut self, state: &Self::State) -> Result<(), Error> {
         self.ts.import(state)
+    }
+
+    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+        self.ts.check_import(state)
+    }
+
+    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
+        self.ts
+            .reconfigure(config.rls, config.rate_scaling::<D>(self.structure))
     }
 }

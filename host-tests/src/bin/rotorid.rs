@@ -282,7 +282,17 @@ fn run_identify(
         let path = out.join(format!("params-{}.json", r.name.replace(' ', "-")));
         write_json(&path, &r.parameters)?;
     }
+    // f32 against f64 for the extended structures (issue 5): same logs, same settings.
+    let precision =
+        host_tests::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
+    for p in &precision {
+        println!(
+            "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",
+            p.variant, p.compared, p.parameters, p.max_relative, p.median_relative
+        );
+    }
     let metrics = Metrics {
+        precision,
         training_files: train.iter().map(|p| p.display().to_string()).collect(),
         training_samples: n_train,
         verification_file: verify.display().to_string(),
