@@ -111,11 +111,13 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
     s
 }
 
-const COLORS: [RGBColor; 4] = [
-    RGBColor(0, 0, 0),
+const COLORS: [RGBColor; 6] = [
+    BLACK,
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
 ];
 
 /// One line of a panel: name, colour index, points (gaps where `None`).
@@ -148,6 +150,21 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), String>
             x1 = x1.max(x);
             y0 = y0.min(y);
             y1 = y1.max(y);
+        }
+        // A diverging model would flatten everything else: the y range is at most three times
+        // the first series' range (the measurement, or the first variant's errors), centred on
+        // it; lines beyond it are clipped.
+        if let Some(first) = panel.series.first() {
+            let (mut a0, mut a1) = (f64::MAX, f64::MIN);
+            for (_, y) in first.points.iter().flatten() {
+                a0 = a0.min(*y);
+                a1 = a1.max(*y);
+            }
+            if a0 <= a1 {
+                let (mid, half) = ((a0 + a1) / 2.0, ((a1 - a0) / 2.0).max(1e-6));
+                y0 = y0.max(mid - 3.0 * half);
+                y1 = y1.min(mid + 3.0 * half);
+            }
         }
         if x0 > x1 {
             (x0, x1, y0, y1) = (0.0, 1.0, -1.0, 1.0);
