@@ -45,7 +45,10 @@ use host_tests::dense_rls::{DenseRls, TsLikeStream};
 use host_tests::golden;
 use rotorid::hover::HoverSample;
 use rotorid::rls::{Rls, RlsConfig};
-use rotorid::{HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    PaperPlainIdentifier,
+};
 
 /// Samples in the stream, and updates between two resets of the estimator.
 pub const STREAM_LEN: usize = 1000;
@@ -270,6 +273,32 @@ fn bench_hover_step(c: &mut Criterion) {
         0,
         &in64,
         || PaperFuzzyIdentifier::<f64>::paper_fuzzy(HoverConfig::paper()).expect("valid config"),
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "extended-fuzzy-f32",
+        0,
+        &inputs,
+        || {
+            ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(HoverConfig::default())
+                .expect("valid config")
+        },
+        |id, s| {
+            let _ = id.step(s);
+        },
+    );
+    bench_row(
+        &mut g,
+        "extended-plain-f32",
+        0,
+        &inputs,
+        || {
+            ExtendedPlainIdentifier::<f32>::extended_plain(HoverConfig::default())
+                .expect("valid config")
+        },
         |id, s| {
             let _ = id.step(s);
         },

@@ -5,7 +5,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use rotorid::{PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
+};
 
 /// Mean time of one benchmark (ns), from criterion's `new/estimates.json`.
 fn mean_ns(dir: &Path, group: &str, row: &str, param: &str) -> Option<f64> {
@@ -118,6 +120,14 @@ fn main() {
         ("fuzzy-ud-f64", "PaperFuzzyIdentifier<f64>, U-D"),
         ("fuzzy-paper-f64", "PaperFuzzyIdentifier<f64>, paper form"),
         ("plain-ud-f32", "PaperPlainIdentifier<f32>, U-D"),
+        (
+            "extended-fuzzy-f32",
+            "ExtendedFuzzyIdentifier<f32>, U-D, scaled (default)",
+        ),
+        (
+            "extended-plain-f32",
+            "ExtendedPlainIdentifier<f32>, U-D, scaled (default)",
+        ),
     ] {
         let _ = writeln!(
             md,
@@ -127,11 +137,15 @@ fn main() {
     }
     let _ = writeln!(
         md,
-        "\n## Memory (`size_of`, x86_64)\n\n| identifier | f32 | f64 |\n|---|---|---|\n| PaperFuzzyIdentifier | {} B | {} B |\n| PaperPlainIdentifier | {} B | {} B |\n\nTarget: at most 11 KiB (11 264 B) for the fuzzy identifier in f32.",
+        "\n## Memory (`size_of`, x86_64)\n\n| identifier | f32 | f64 |\n|---|---|---|\n| PaperFuzzyIdentifier | {} B | {} B |\n| PaperPlainIdentifier | {} B | {} B |\n| ExtendedFuzzyIdentifier | {} B | {} B |\n| ExtendedPlainIdentifier | {} B | {} B |\n\nTarget: at most 11 KiB (11 264 B) for the paper fuzzy identifier in f32.",
         size_of::<PaperFuzzyIdentifier<f32>>(),
         size_of::<PaperFuzzyIdentifier<f64>>(),
         size_of::<PaperPlainIdentifier<f32>>(),
-        size_of::<PaperPlainIdentifier<f64>>()
+        size_of::<PaperPlainIdentifier<f64>>(),
+        size_of::<ExtendedFuzzyIdentifier<f32>>(),
+        size_of::<ExtendedFuzzyIdentifier<f64>>(),
+        size_of::<ExtendedPlainIdentifier<f32>>(),
+        size_of::<ExtendedPlainIdentifier<f64>>()
     );
     if let Err(e) = std::fs::write(out, md) {
         eprintln!("{out}: {e}");
