@@ -82,7 +82,19 @@ fn end_to_end_on_a_short_flight() {
             .expect("json");
     let variants = metrics["variants"].as_array().expect("variants");
     let names: Vec<&str> = variants.iter().filter_map(|v| v["name"].as_str()).collect();
-    assert_eq!(names, ["paper fuzzy", "paper plain"]);
+    let expected: Vec<&str> = host_tests::experiments::variants()
+        .iter()
+        .map(|v| v.name)
+        .collect();
+    assert_eq!(names, expected);
+    assert_eq!(&names[..2], ["paper fuzzy", "paper plain"]); // Table 4's columns
+                                                             // f32 against f64 for the extended structures is part of every report.
+    let precision = metrics["precision"].as_array().expect("precision");
+    assert_eq!(precision.len(), 2);
+    for p in precision {
+        let max = p["max_relative"].as_f64().expect("max_relative");
+        assert!(max.is_finite() && max >= 0.0, "{max}");
+    }
     for v in variants {
         for key in ["hold_one_step", "one_step", "one_step_adapting", "free_run"] {
             let arr = v[key].as_array().expect(key);
