@@ -132,14 +132,13 @@ pub struct RlsState<T, const N: usize, const NP: usize> {
     pub updates: u32,
 }
 
-/// Counters and last values of an [`Rls`].
-#[derive(Copy, Clone, Debug, PartialEq)]
+/// Counters of an [`Rls`]. (The last prior innovation is what
+/// [`update`](Rls::update) returns; it is not kept.)
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct RlsCounters<T> {
+pub struct RlsCounters {
     /// Updates made since construction or reset.
     pub updates: u32,
-    /// Prior innovation `y − ξᵀθ` of the last update.
-    pub last_innovation: T,
     /// Steps in which forgetting was suspended by the trace bound.
     pub windup_guards: u32,
     /// Covariance-form updates skipped because P had lost positive definiteness (a
@@ -153,7 +152,7 @@ pub struct Rls<T, const N: usize, const NP: usize> {
     config: RlsConfig<T>,
     theta: [T; N],
     factor: [T; NP],
-    counters: RlsCounters<T>,
+    counters: RlsCounters,
 }
 
 /// Start of column j of the packed upper triangle.
@@ -171,22 +170,33 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
 
     /// A fresh estimator: θ(0) = 0, P(0) = αI.
     pub fn new(config: RlsConfig<T>) -> Result<Self, Error> {
+        Self::check_new(&config)?;
+        Ok(Self::new_unchecked(config))
+    }
+
+    /// The checks of [`new`](Self::new).
+    pub(crate) fn check_new(config: &RlsConfig<T>) -> Result<(), Error> {
         #[allow(clippy::let_unit_value)]
         let () = Self::SIZES_OK;
-        config.validate()?;
+        config.validate()
+    }
+
+    /// [`new`](Self::new) for settings that passed [`check_new`](Self::check_new). Inlined so
+    /// that a caller building a large identifier writes the arrays in place (no stack copy).
+    #[inline(always)]
+    pub(crate) fn new_unchecked(config: RlsConfig<T>) -> Self {
         let mut rls = Self {
             config,
             theta: [T::zero(); N],
             factor: [T::zero(); NP],
             counters: RlsCounters {
                 updates: 0,
-                last_innovation: T::zero(),
                 windup_guards: 0,
                 numerical_skips: 0,
             },
         };
         rls.reset();
-        Ok(rls)
+        rls
     }
 
     /// A fresh estimator starting from a given θ(0) (the paper's "good initial guess").
@@ -220,7 +230,6 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         }
         self.counters = RlsCounters {
             updates: 0,
-            last_innovation: T::zero(),
             windup_guards: 0,
             numerical_skips: 0,
         };
@@ -236,8 +245,8 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         &self.theta
     }
 
-    /// Counters and the last prior innovation.
-    pub fn counters(&self) -> &RlsCounters<T> {
+    /// Counters.
+    pub fn counters(&self) -> &RlsCounters {
         &self.counters
     }
 
@@ -391,11 +400,9 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         targets: &[T; M],
         innovations: &[T; M],
     ) {
+        let _ = innovations;
         for (xi, &y) in regressors.iter().zip(targets.iter()) {
             self.update_checked(xi, y);
-        }
-        if let Some(&last) = innovations.last() {
-            self.counters.last_innovation = last;
         }
     }
 
@@ -460,59 +467,105 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// One scalar update whose inputs passed the checks of `update_many`.
+    ///
+    /// The work is done by [`update_slices`], generic over the scalar only: one copy of the
+    /// update code serves every size N (a firmware with several models would otherwise carry
+    /// one per size).
     fn update_checked(&mut self, xi: &[T; N], y: T) {
-        let mut nz = [0u16; N];
-        let mut nnz = 0usize;
-        for (j, &x) in xi.iter().enumerate() {
-            if x != T::zero() {
-                if let Some(slot) = nz.get_mut(nnz) {
-                    *slot = j as u16;
-                    nnz += 1;
-                }
-            }
-        }
-        let nz = nz.get(..nnz).unwrap_or(&[]);
+        let mut s1 = [T::zero(); N];
+        let mut s2 = [T::zero(); N];
+        let mut s3 = [T::zero(); N];
         let e = y - dot(xi, &self.theta);
-        let applied = match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, nz, e),
-            Algorithm::UdFactor => {
-                self.ud_update(xi, nz, e);
-                true
-            }
+        let mut w = Work {
+            config: &self.config,
+            theta: &mut self.theta,
+            factor: &mut self.factor,
+            counters: &mut self.counters,
         };
+        let applied = w.update(xi, e, &mut s1, &mut s2, &mut s3);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
+        }
+    }
+}
+
+/// An estimator's storage as slices (`theta.len() = N`, `factor.len() = N(N+1)/2`).
+struct Work<'a, T> {
+    config: &'a RlsConfig<T>,
+    theta: &'a mut [T],
+    factor: &'a mut [T],
+    counters: &'a mut RlsCounters,
+}
+
+impl<T: Real> Work<'_, T> {
+    /// One update with prior innovation `e`; scratch slices of length N. Returns whether it
+    /// was applied.
+    #[inline(never)]
+    fn update(&mut self, xi: &[T], e: T, s1: &mut [T], s2: &mut [T], s3: &mut [T]) -> bool {
+        // ξ_i = 0 for every i ≥ `active`.
+        let mut active = 0;
+        for (j, &x) in xi.iter().enumerate() {
+            if x != T::zero() {
+                active = j + 1;
+            }
+        }
+        match self.config.algorithm {
+            Algorithm::Covariance => self.covariance_update(xi, active, e, s1, s2),
+            Algorithm::UdFactor => {
+                self.ud_update(xi, active, e, s1, s2, s3);
+                true
+            }
         }
     }
 
     /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
     /// update was applied (see [`RlsCounters::numerical_skips`]).
-    fn covariance_update(&mut self, xi: &[T; N], nz: &[u16], e: T) -> bool {
+    fn covariance_update(
+        &mut self,
+        xi: &[T],
+        active: usize,
+        e: T,
+        g: &mut [T],
+        k: &mut [T],
+    ) -> bool {
         let lambda = self.config.forgetting;
-        // g = P ξ over the non-zero ξ_j only, a column of the packed triangle at a time:
-        // rows i ≤ j are contiguous in column j, rows i > j are P(j, i) in later columns.
-        // Each g_i still sums its terms in ascending j.
-        let mut g = [T::zero(); N];
-        for &j in nz {
-            let j = usize::from(j);
-            let xj = xi.get(j).copied().unwrap_or_else(T::zero);
+        // g = P ξ, one column of the packed triangle at a time: column j holds P(i, j) for
+        // i ≤ j, which gives g_i += P(i, j) ξ_j for i < j and g_j = Σ_{i ≤ j} P(i, j) ξ_i
+        // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
+        // j from +0, as P ξ written out. Zero ξ_j are skipped (or add ±0 to a sum from +0,
+        // which changes nothing): no sum reaches past `active`.
+        for (j, &xj) in xi.iter().enumerate() {
             let start = col(j);
-            if let Some(column) = self.factor.get(start..=start + j) {
-                for (gi, &p) in g.iter_mut().zip(column) {
-                    *gi += p * xj;
+            let Some((&pjj, above)) = self
+                .factor
+                .get(start..=start + j)
+                .and_then(|column| column.split_last())
+            else {
+                continue;
+            };
+            let mut s = T::zero();
+            if xj == T::zero() {
+                let n = j.min(active);
+                let (ps, xs) = (above.get(..n).unwrap_or(&[]), xi.get(..n).unwrap_or(&[]));
+                for (&p, &x) in ps.iter().zip(xs) {
+                    s += p * x;
                 }
+            } else {
+                for ((gi, &p), &x) in g.iter_mut().zip(above).zip(xi) {
+                    *gi += p * xj;
+                    s += p * x;
+                }
+                s += pjj * xj;
             }
-            let mut idx = start + j; // P(j, i) for i = j + 1 is at col(j + 1) + j
-            for (i, gi) in g.iter_mut().enumerate().skip(j + 1) {
-                idx += i;
-                *gi += self.factor.get(idx).copied().unwrap_or_else(T::zero) * xj;
+            if let Some(gj) = g.get_mut(j) {
+                *gj = s;
             }
         }
         let mut denom = lambda;
-        for &j in nz {
-            let j = usize::from(j);
-            denom += xi.get(j).copied().unwrap_or_else(T::zero)
-                * g.get(j).copied().unwrap_or_else(T::zero);
+        for (&x, &gj) in xi.iter().zip(g.iter()) {
+            if x != T::zero() {
+                denom += x * gj;
+            }
         }
         // In f32 with a large α this form can lose positive definiteness (the reason the U-D
         // form exists): an update whose denominator is not positive, or whose step is not
@@ -522,7 +575,6 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             return false;
         }
         // K = g / (λ + ξᵀPξ), divided entry by entry exactly as the paper writes it.
-        let mut k = [T::zero(); N];
         for ((ki, &gi), &t) in k.iter_mut().zip(g.iter()).zip(self.theta.iter()) {
             *ki = gi / denom;
             if !(t + *ki * e).is_finite() {
@@ -571,35 +623,36 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
-    fn ud_update(&mut self, xi: &[T; N], nz: &[u16], e: T) {
+    fn ud_update(&mut self, xi: &[T], active: usize, e: T, f: &mut [T], v: &mut [T], b: &mut [T]) {
         let lambda = self.config.forgetting;
-        // f = Uᵀ ξ (U unit upper triangular), over the non-zero ξ_i only; v = D f.
-        let mut f = [T::zero(); N];
-        let mut v = [T::zero(); N];
-        for (j, (fj, vj)) in f.iter_mut().zip(v.iter_mut()).enumerate() {
+        // f = Uᵀ ξ (U unit upper triangular); v = D f. ξ_i = 0 for every i ≥ `active`, so the
+        // sums stop there; the zero ξ_i below it add ±0, which changes no non-zero sum and
+        // at most the sign of a zero f_j (whose column is skipped either way).
+        for (j, ((fj, vj), &xj)) in f.iter_mut().zip(v.iter_mut()).zip(xi.iter()).enumerate() {
             let start = col(j);
-            let mut s = xi.get(j).copied().unwrap_or_else(T::zero);
-            for &i in nz {
-                let i = usize::from(i);
-                if i >= j {
-                    break;
-                }
-                let u = self.factor.get(start + i).copied().unwrap_or_else(T::zero);
-                s += u * xi.get(i).copied().unwrap_or_else(T::zero);
+            let Some((&dj, above)) = self
+                .factor
+                .get(start..=start + j)
+                .and_then(|column| column.split_last())
+            else {
+                continue;
+            };
+            let n = j.min(active);
+            let mut s = xj;
+            let (us, xs) = (above.get(..n).unwrap_or(&[]), xi.get(..n).unwrap_or(&[]));
+            for (&u, &x) in us.iter().zip(xs) {
+                s += u * x;
             }
             *fj = s;
-            *vj = self.factor.get(start + j).copied().unwrap_or_else(T::zero) * s;
+            *vj = dj * s;
         }
         // b accumulates the unnormalised gain U D f = P ξ.
-        let mut b = [T::zero(); N];
         let mut alpha = lambda;
         let mut inv_alpha = T::one() / lambda;
-        for j in 0..N {
-            let fj = f.get(j).copied().unwrap_or_else(T::zero);
+        for (j, (&fj, &vj)) in f.iter().zip(v.iter()).enumerate() {
             if fj == T::zero() {
                 continue; // v_j = 0: column j and D_j unchanged, b unchanged
             }
-            let vj = v.get(j).copied().unwrap_or_else(T::zero);
             let alpha_prev = alpha;
             let inv_prev = inv_alpha;
             alpha = alpha_prev + fj * vj;
@@ -607,10 +660,11 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             inv_alpha = T::one() / alpha;
             let p = -fj * inv_prev;
             let start = col(j);
-            let Some(column) = self.factor.get_mut(start..=start + j) else {
-                continue;
-            };
-            let Some((dj, above)) = column.split_last_mut() else {
+            let Some((dj, above)) = self
+                .factor
+                .get_mut(start..=start + j)
+                .and_then(|column| column.split_last_mut())
+            else {
                 continue;
             };
             *dj *= alpha_prev * inv_alpha;
@@ -629,9 +683,9 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             *t += bi * gain;
         }
         if lambda < T::one() {
-            if self.trace() / lambda <= self.config.max_trace {
+            if self.ud_trace(f) / lambda <= self.config.max_trace {
                 let s = T::one() / lambda;
-                for j in 0..N {
+                for j in 0..self.theta.len() {
                     if let Some(d) = self.factor.get_mut(col(j) + j) {
                         *d *= s;
                     }
@@ -640,6 +694,35 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
             }
         }
+    }
+
+    /// trace(P) of the U-D factors, summed exactly as [`Rls::trace`] does (`diag`: scratch
+    /// of length N).
+    fn ud_trace(&self, diag: &mut [T]) -> T {
+        for d in diag.iter_mut() {
+            *d = T::zero();
+        }
+        for j in 0..self.theta.len() {
+            let start = col(j);
+            let Some((&dj, above)) = self
+                .factor
+                .get(start..=start + j)
+                .and_then(|column| column.split_last())
+            else {
+                continue;
+            };
+            for (d, &u) in diag.iter_mut().zip(above) {
+                *d += u * u * dj;
+            }
+            if let Some(d) = diag.get_mut(j) {
+                *d += dj;
+            }
+        }
+        let mut t = T::zero();
+        for &d in diag.iter() {
+            t += d;
+        }
+        t
     }
 }
 

@@ -32,6 +32,9 @@ pub trait Real: RealField + Copy + Default + sealed::Sealed {
     fn write_le(self, out: &mut [u8]) -> bool;
     /// Reads a value from the little-endian bytes `bytes[..Self::BYTES]`.
     fn read_le(bytes: &[u8]) -> Option<Self>;
+    /// `(sin x, cos x)` in one call of `libm`'s `sincosf`/`sincos`: one argument reduction
+    /// for both, and bit-identical to `libm`'s separate `sin` and `cos` (same kernels).
+    fn sin_cos_libm(self) -> (Self, Self);
 }
 
 impl Real for f32 {
@@ -62,6 +65,10 @@ impl Real for f32 {
         let b: [u8; 4] = bytes.get(..4)?.try_into().ok()?;
         Some(f32::from_le_bytes(b))
     }
+    #[inline]
+    fn sin_cos_libm(self) -> (Self, Self) {
+        libm::sincosf(self)
+    }
 }
 
 impl Real for f64 {
@@ -91,6 +98,10 @@ impl Real for f64 {
     fn read_le(bytes: &[u8]) -> Option<Self> {
         let b: [u8; 8] = bytes.get(..8)?.try_into().ok()?;
         Some(f64::from_le_bytes(b))
+    }
+    #[inline]
+    fn sin_cos_libm(self) -> (Self, Self) {
+        libm::sincos(self)
     }
 }
 

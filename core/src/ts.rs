@@ -90,17 +90,34 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Result<Self, Error> {
+        Self::check_new(&config, &scaling)?;
+        Ok(Self::with_scaling_unchecked(rules, config, scaling))
+    }
+
+    /// The checks of [`with_scaling`](Self::with_scaling).
+    pub(crate) fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
         #[allow(clippy::let_unit_value)]
         let () = Self::SIZES_OK;
         if N != R * D {
             return Err(ConfigError::Dimensions.into());
         }
         scaling.validate()?;
-        Ok(Self {
+        Rls::<T, N, NP>::check_new(config)
+    }
+
+    /// [`with_scaling`](Self::with_scaling) for inputs that passed
+    /// [`check_new`](Self::check_new) (built in place, see `Rls::new_unchecked`).
+    #[inline(always)]
+    pub(crate) fn with_scaling_unchecked(
+        rules: RuleBase<T, V, R>,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Self {
+        Self {
             rules,
-            rls: Rls::new(config)?,
+            rls: Rls::new_unchecked(config),
             scaling,
-        })
+        }
     }
 
     /// The rule base.
@@ -139,6 +156,12 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     /// The (scaled) regressor `ξ(k)` for a premise `x` and consequent terms `Δ`.
     pub fn regressor(&self, premise: &[T; V], terms: &[T; D]) -> Result<[T; N], Error> {
         let strengths = self.rules.firing_strengths(premise)?;
+        self.regressor_from(&strengths, terms)
+    }
+
+    /// The regressor for firing strengths already computed from the premise.
+    #[inline]
+    fn regressor_from(&self, strengths: &[T; R], terms: &[T; D]) -> Result<[T; N], Error> {
         for (s, t) in terms.iter().enumerate() {
             if !t.is_finite() {
                 return Err(Error::NonFinite(Quantity::Regressor((s * R) as u16)));
@@ -160,8 +183,24 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
 
     /// `ξᵀθ` for one output, in the target's physical unit.
     pub fn predict(&self, premise: &[T; V], terms: &[T; D]) -> Result<T, Error> {
-        let xi = self.regressor(premise, terms)?;
-        Ok(self.rls.predict(&xi)? * self.scaling.target)
+        let [y] = self.predict_many(premise, &[*terms])?;
+        Ok(y)
+    }
+
+    /// `ξ_mᵀθ` for M outputs that share the premise (the firing strengths are computed once),
+    /// in the target's physical unit; each equal to [`predict`](Self::predict) of its terms.
+    pub fn predict_many<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        let strengths = self.rules.firing_strengths(premise)?;
+        let mut out = [T::zero(); M];
+        for (o, t) in out.iter_mut().zip(terms.iter()) {
+            let xi = self.regressor_from(&strengths, t)?;
+            *o = self.rls.predict(&xi)? * self.scaling.target;
+        }
+        Ok(out)
     }
 
     /// Learns from M outputs that share θ and the premise, output m having consequent terms
@@ -187,9 +226,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         terms: &[[T; D]; M],
         targets: &[T; M],
     ) -> Result<Prepared<T, N, M>, Error> {
+        let strengths = self.rules.firing_strengths(premise)?;
         let mut regressors = [[T::zero(); N]; M];
         for (xi, t) in regressors.iter_mut().zip(terms.iter()) {
-            *xi = self.regressor(premise, t)?;
+            *xi = self.regressor_from(&strengths, t)?;
         }
         let mut scaled = [T::zero(); M];
         for (m, (s, &y)) in scaled.iter_mut().zip(targets.iter()).enumerate() {

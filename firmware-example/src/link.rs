@@ -17,7 +17,7 @@ use rotorid::telemetry::{
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
 
-use crate::ident::{Engine, Reply};
+use firmware_ident::{Engine, Reply};
 
 /// What the link needs from the MCU besides the byte stream.
 pub trait Platform {

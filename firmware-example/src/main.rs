@@ -9,7 +9,7 @@
 //! * [`board`]: everything specific to the mps2-an386 model (UART, SysTick, exit path, fault
 //!   handlers). Replace it for another board.
 //! * [`link`]: the board-agnostic application, generic over `embedded_io::{Read, Write}`.
-//! * [`ident`]: the onboard identifiers (fuzzy + plain) and the identification messages.
+//! * [`firmware_ident`] (crate `ident/`): the onboard identifiers (fuzzy + plain) and the identification messages.
 //!
 //! ## Running it on a real flight computer
 //!
@@ -33,7 +33,6 @@
 #![no_main]
 
 mod board;
-mod ident;
 mod link;
 
 use cortex_m_rt::entry;
@@ -48,7 +47,7 @@ fn main() -> ! {
     let Some(cp) = cortex_m::Peripherals::take() else {
         board::exit(board::EXIT_INIT)
     };
-    let Some(engine) = ident::Engine::take() else {
+    let Some(engine) = firmware_ident::Engine::take() else {
         defmt::error!("identifier construction failed");
         board::exit(board::EXIT_INIT)
     };

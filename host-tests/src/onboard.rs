@@ -212,7 +212,7 @@ pub struct ModelParams {
     pub theta: Vec<f32>,
     /// diag(P).
     pub diagonal: Vec<f32>,
-    /// trace(P), updates, windup guards, last innovation (bits), algorithm.
+    /// trace(P), updates, windup guards, numerical skips, algorithm.
     pub summary: [u32; ParamsChunk::SUMMARY_WORDS],
 }
 
@@ -228,7 +228,7 @@ fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> Mod
             r.trace().to_bits(),
             c.updates,
             c.windup_guards,
-            c.last_innovation.to_bits(),
+            c.numerical_skips,
             u32::from(r.config().algorithm == rotorid::Algorithm::UdFactor),
         ],
     }

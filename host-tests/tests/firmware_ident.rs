@@ -5,8 +5,11 @@
 
 use std::time::Instant;
 
+use host_tests::firmware_link::wire_frame;
 use host_tests::golden;
-use host_tests::onboard::{messages, simulated_flight, Mirror, Onboard, OnboardError};
+use host_tests::onboard::{messages, payload, simulated_flight, Mirror, Onboard, OnboardError};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use rotorid::hover::HoverSample;
 use rotorid::sweep::SweepSchedule;
 use rotorid::telemetry::msg::{
@@ -122,6 +125,76 @@ fn sixty_seconds_of_flight_bit_for_bit() {
         flight.len(),
         flight.len() as f64 / 50.0,
         t0.elapsed()
+    );
+}
+
+/// Garbage, bit flips and truncated frames injected into the live link while the identifiers
+/// run: the firmware keeps going, counts every fault, and still matches the host bit for bit on
+/// every good frame (each corrupted `Sample` is sent again intact, as a sender retrying would).
+#[test]
+fn link_faults_during_identification_are_counted_and_survived() {
+    let mut ob = Onboard::boot(RlsForm::UdDefault, false).expect("boot");
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let inp = golden::inputs(240, golden::SEED);
+    let msgs = messages(&inp, SampleMode::Learn);
+    let (mut n_garbage, mut n_flipped, mut n_truncated) = (0u32, 0u32, 0u32);
+    for (i, m) in msgs.iter().enumerate() {
+        match i % 5 {
+            0 => {
+                // Random non-zero bytes, then a delimiter: exactly one rejected frame.
+                let len = rng.random_range(12..120);
+                let mut g: Vec<u8> = (0..len).map(|_| rng.random_range(1..=255)).collect();
+                g.push(0);
+                ob.link.send_raw(&g).expect("send");
+                n_garbage += 1;
+            }
+            1 | 2 => {
+                // This very sample's frame, one bit flipped or cut short: its sequence number
+                // is used up (the firmware sees a gap at the next good frame).
+                let seq = ob.link.encoder().next_seq();
+                let p = payload(|w| m.write(w));
+                let mut w = wire_frame(MsgType::Sample.code(), seq, &p).expect("frame");
+                ob.link
+                    .encoder()
+                    .encode(0, &[], &mut [0u8; 64])
+                    .expect("seq");
+                if i % 5 == 1 {
+                    let at = rng.random_range(0..w.len() - 1);
+                    w[at] ^= 1 << rng.random_range(0..8);
+                    n_flipped += 1;
+                } else {
+                    w.truncate(rng.random_range(1..w.len() - 1));
+                    w.push(0);
+                    n_truncated += 1;
+                }
+                ob.link.send_raw(&w).expect("send");
+            }
+            _ => {}
+        }
+        // The good frame: the estimate is compared with the host bit for bit.
+        let res = ob
+            .stream(std::slice::from_ref(m), |_| {})
+            .unwrap_or_else(|e| panic!("sample {i}: {e}"));
+        assert_eq!(res.estimates.len(), 1);
+        assert_eq!(res.estimates[0].fuzzy.error, None, "sample {i}");
+    }
+    let s = ob.link.stats().expect("stats");
+    let lost = n_flipped + n_truncated;
+    assert_eq!(s.link.lost_frames, lost, "{s:?}");
+    assert_eq!(s.link.seq_gaps, lost, "{s:?}");
+    assert!(s.link.rejected() >= n_garbage + lost, "{s:?}");
+    assert_eq!(s.uart_errors, 0);
+    // The faults changed nothing: the same state as a clean run over the same samples.
+    let mut clean = Mirror::new(RlsForm::UdDefault).unwrap();
+    for m in &msgs {
+        clean.apply(m);
+    }
+    for ident in [Ident::Fuzzy, Ident::Plain] {
+        assert_eq!(ob.export(ident).unwrap(), clean.export(ident), "{ident:?}");
+    }
+    eprintln!(
+        "{} samples, {n_garbage} garbage, {n_flipped} bit flips, {n_truncated} truncated: {s:?}",
+        msgs.len()
     );
 }
 

@@ -2,7 +2,7 @@
 
 use crate::error::{ConfigError, Error};
 use crate::hover::models::{
-    RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
+    BodyFrame, RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
 };
 use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
 use crate::hover::table3;
@@ -134,7 +134,8 @@ pub struct HoverIdentifier<T, V, Q, R, P> {
     yaw: R,
     roll: P,
     config: HoverConfig<T>,
-    previous: Option<HoverSample<T>>,
+    /// The sample the next step learns from, with its body frame.
+    previous: Option<(HoverSample<T>, BodyFrame<T>)>,
 }
 
 /// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
@@ -217,13 +218,23 @@ fn build<
 > {
     let c = config.rls;
     let rs = config.rate_scaling::<DA>(rate);
-    HoverIdentifier::new(
-        VelocityModel::with_scaling(rules.0, velocity, c, config.velocity_scaling(velocity))?,
-        RateModel::with_scaling(RateAxis::Pitch, rules.1, rate, c, rs)?,
-        RateModel::with_scaling(RateAxis::Yaw, rules.2, rate, c, rs)?,
-        RateModel::with_scaling(RateAxis::Roll, rules.3, rate, c, rs)?,
+    let vs = config.velocity_scaling::<DV>(velocity);
+    // Everything is checked first; then the identifier is built as one expression from
+    // inlined infallible constructors, so the compiler writes the ~11 KB of arrays straight
+    // into the result instead of moving models through the stack.
+    config.validate()?;
+    VelocityModel::<T, RV, DV, NV, PV>::check_new(velocity, &c, &vs)?;
+    RateModel::<T, RQ, DA, NQ, PQ>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RR, DA, NR, PR>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RP, DA, NP, PP>::check_new(rate, &c, &rs)?;
+    Ok(HoverIdentifier {
+        velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, c, vs),
+        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, c, rs),
+        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, c, rs),
+        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, c, rs),
         config,
-    )
+        previous: None,
+    })
 }
 
 impl<T: Real> PaperFuzzyIdentifier<T> {
@@ -344,7 +355,7 @@ where
 
     /// The sample the next step will learn from, if any.
     pub fn previous_sample(&self) -> Option<&HoverSample<T>> {
-        self.previous.as_ref()
+        self.previous.as_ref().map(|(s, _)| s)
     }
 
     /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
@@ -357,13 +368,13 @@ where
     pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
-        if let Some(prev) = self.previous {
-            self.check_interval(&prev, sample)?;
+        if let Some((prev, frame)) = &self.previous {
+            self.check_interval(prev, sample)?;
             // Check all four models before changing any.
-            let v = self.velocity.prepare(&prev, sample)?;
-            let q = self.pitch.prepare(&prev, sample)?;
-            let r = self.yaw.prepare(&prev, sample)?;
-            let p = self.roll.prepare(&prev, sample)?;
+            let v = self.velocity.prepare_in(prev, frame, sample)?;
+            let q = self.pitch.prepare_in(prev, frame, sample)?;
+            let r = self.yaw.prepare_in(prev, frame, sample)?;
+            let p = self.roll.prepare_in(prev, frame, sample)?;
             let mut inn = HoverState::default();
             self.velocity.apply(&v, &mut inn);
             self.pitch.apply(&q, &mut inn);
@@ -371,9 +382,10 @@ where
             self.roll.apply(&p, &mut inn);
             innovation = Some(inn);
         }
-        self.previous = Some(*sample);
+        let frame = BodyFrame::of(&sample.attitude);
+        self.previous = Some((*sample, frame));
         // Cannot fail: the sample passed SampleLimits, which bounds every regressor.
-        let prediction = self.predict(sample)?;
+        let prediction = self.predict_in(sample, &frame)?;
         Ok(StepOutput {
             prediction,
             innovation,
@@ -384,19 +396,29 @@ where
     /// nothing (use it to verify a frozen model or to simulate it forward).
     pub fn predict(&self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
+        self.predict_in(sample, &BodyFrame::of(&sample.attitude))
+    }
+
+    fn predict_in(
+        &self,
+        sample: &HoverSample<T>,
+        frame: &BodyFrame<T>,
+    ) -> Result<HoverState<T>, Error> {
         let mut next = HoverState::default();
-        self.velocity.predict(sample, &mut next)?;
-        self.pitch.predict(sample, &mut next)?;
-        self.yaw.predict(sample, &mut next)?;
-        self.roll.predict(sample, &mut next)?;
+        self.velocity.predict_in(sample, frame, &mut next)?;
+        self.pitch.predict_in(sample, frame, &mut next)?;
+        self.yaw.predict_in(sample, frame, &mut next)?;
+        self.roll.predict_in(sample, frame, &mut next)?;
         Ok(next)
     }
 
     /// Starts a new sample chain at `sample` without learning (after a gap, a time jump, or
     /// between concatenated manoeuvres). Returns the prediction from it.
     pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
-        let prediction = self.predict(sample)?;
-        self.previous = Some(*sample);
+        SampleLimits::check(sample)?;
+        let frame = BodyFrame::of(&sample.attitude);
+        let prediction = self.predict_in(sample, &frame)?;
+        self.previous = Some((*sample, frame));
         Ok(prediction)
     }
 

@@ -25,7 +25,7 @@ pub use identifier::{
     PaperFuzzyIdentifier, PaperPlainIdentifier, RegressorScaling, StepOutput,
 };
 pub use models::{
-    right_axis, rotor_axis, RateAxis, RateModel, RateStructure, StateModel, VelocityModel,
-    VelocityStructure,
+    right_axis, rotor_axis, BodyFrame, RateAxis, RateModel, RateStructure, StateModel,
+    VelocityModel, VelocityStructure,
 };
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};

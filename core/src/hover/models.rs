@@ -2,7 +2,7 @@
 //! into the premise and consequent terms of a [`TsRls`].
 
 use crate::error::{ConfigError, Error};
-use crate::hover::sample::{HoverSample, HoverState};
+use crate::hover::sample::{Attitude, HoverSample, HoverState};
 use crate::rls::{RlsConfig, RlsState};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
@@ -35,6 +35,29 @@ pub trait StateModel<T: Real> {
     fn check_import(&self, state: &Self::State) -> Result<(), Error>;
     /// New estimator settings (and the scales they imply), in place, starting afresh.
     fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
+
+    /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
+    /// keeps it from the previous step). Same result.
+    fn prepare_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        to: &HoverSample<T>,
+    ) -> Result<Self::Prepared, Error> {
+        let _ = from_frame;
+        self.prepare(from, to)
+    }
+
+    /// [`predict`](Self::predict) with `from`'s body frame already computed. Same result.
+    fn predict_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let _ = from_frame;
+        self.predict(from, next)
+    }
 }
 
 /// Consequent structure of the translational model.
@@ -84,22 +107,84 @@ impl VelocityStructure {
     }
 }
 
+/// The body axes of one attitude, kept as the sines and cosines of roll, pitch and yaw: one
+/// `libm` `sincos` per angle (bit-identical to separate `sin` and `cos`), shared by both axes.
+///
+/// The identifier computes it once per sample and keeps the previous sample's (the
+/// transcendental functions are the most expensive part of a plain step on an MCU without a
+/// double-precision FPU).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct BodyFrame<T> {
+    sf: T,
+    cf: T,
+    st: T,
+    ct: T,
+    sp: T,
+    cp: T,
+}
+
+impl<T: Real> BodyFrame<T> {
+    /// The frame of an attitude.
+    #[inline]
+    pub fn of(a: &Attitude<T>) -> Self {
+        Self::new(a.roll, a.pitch, a.yaw)
+    }
+
+    /// The frame of roll, pitch, yaw (rad).
+    #[inline]
+    pub fn new(roll: T, pitch: T, yaw: T) -> Self {
+        let (sf, cf) = roll.sin_cos_libm();
+        let (st, ct) = pitch.sin_cos_libm();
+        let (sp, cp) = yaw.sin_cos_libm();
+        Self {
+            sf,
+            cf,
+            st,
+            ct,
+            sp,
+            cp,
+        }
+    }
+
+    /// [`rotor_axis`] of this attitude.
+    #[inline]
+    pub fn rotor_axis(&self) -> [T; 3] {
+        let Self {
+            sf,
+            cf,
+            st,
+            ct,
+            sp,
+            cp,
+        } = *self;
+        [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp]
+    }
+
+    /// [`right_axis`] of this attitude.
+    #[inline]
+    pub fn right_axis(&self) -> [T; 3] {
+        let Self {
+            sf,
+            cf,
+            st,
+            ct,
+            sp,
+            cp,
+        } = *self;
+        [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp]
+    }
+}
+
 /// The body "up" axis `j_b` in inertial paper axes: `R e2 = [sφcψ − cφsθsψ, cφcθ, sφsψ + cφsθcψ]`
 /// (the column of R that Eq. 27 uses; NOTES.md item 1).
 pub fn rotor_axis<T: Real>(roll: T, pitch: T, yaw: T) -> [T; 3] {
-    let (sf, cf) = (roll.sin(), roll.cos());
-    let (st, ct) = (pitch.sin(), pitch.cos());
-    let (sp, cp) = (yaw.sin(), yaw.cos());
-    [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp]
+    BodyFrame::new(roll, pitch, yaw).rotor_axis()
 }
 
 /// The body's right axis `i_b` in inertial paper axes: `R e1 = [cφcψ + sφsθsψ, −sφcθ,
 /// cφsψ − sφsθcψ]` (the first column of the paper's R).
 pub fn right_axis<T: Real>(roll: T, pitch: T, yaw: T) -> [T; 3] {
-    let (sf, cf) = (roll.sin(), roll.cos());
-    let (st, ct) = (pitch.sin(), pitch.cos());
-    let (sp, cp) = (yaw.sin(), yaw.cos());
-    [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp]
+    BodyFrame::new(roll, pitch, yaw).right_axis()
 }
 
 /// Translational model (Eq. 27): premise `v^s(k)`, three outputs `v_x, v_y, v_z` sharing θ.
@@ -128,11 +213,32 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Result<Self, Error> {
+        Self::check_new(structure, &config, &scaling)?;
+        Ok(Self::with_scaling_unchecked(
+            rules, structure, config, scaling,
+        ))
+    }
+
+    pub(crate) fn check_new(
+        structure: VelocityStructure,
+        config: &RlsConfig<T>,
+        scaling: &Scaling<T, D>,
+    ) -> Result<(), Error> {
         check_terms(structure.terms(), D)?;
-        Ok(Self {
-            ts: TsRls::with_scaling(rules, config, scaling)?,
+        TsRls::<T, 3, R, D, N, NP>::check_new(config, scaling)
+    }
+
+    #[inline(always)]
+    pub(crate) fn with_scaling_unchecked(
+        rules: RuleBase<T, 3, R>,
+        structure: VelocityStructure,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Self {
+        Self {
+            ts: TsRls::with_scaling_unchecked(rules, config, scaling),
             structure,
-        })
+        }
     }
 
     /// The consequent structure.
@@ -147,10 +253,18 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
 
     /// The consequent terms `Δ` of the outputs `v_x, v_y, v_z` at sample k.
     pub fn terms(&self, s: &HoverSample<T>) -> [[T; D]; 3] {
+        self.terms_in(s, &BodyFrame::of(&s.attitude))
+    }
+
+    /// [`terms`](Self::terms) with the sample's body frame already computed.
+    pub fn terms_in(&self, s: &HoverSample<T>, trig: &BodyFrame<T>) -> [[T; D]; 3] {
         let mut terms = [[T::zero(); D]; 3];
-        let a = &s.attitude;
-        let e = rotor_axis(a.roll, a.pitch, a.yaw);
-        let side = right_axis(a.roll, a.pitch, a.yaw);
+        let e = trig.rotor_axis();
+        // The right axis only enters the extended structure.
+        let side = match self.structure {
+            VelocityStructure::Paper => [T::zero(); 3],
+            VelocityStructure::Extended => trig.right_axis(),
+        };
         let one = T::one();
         for (out, (t, ((&ei, &v), &si))) in terms
             .iter_mut()
@@ -185,13 +299,39 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     type State = RlsState<T, N, NP>;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
+        self.prepare_in(from, &BodyFrame::of(&from.attitude), to)
+    }
+
+    fn prepare_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        to: &HoverSample<T>,
+    ) -> Result<Self::Prepared, Error> {
         let [x0, y0, z0] = from.velocity;
         let [x1, y1, z1] = to.velocity;
         self.ts.prepare(
             &from.velocity,
-            &self.terms(from),
+            &self.terms_in(from, from_frame),
             &[x1 - x0, y1 - y0, z1 - z0],
         )
+    }
+
+    fn predict_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let increments = self
+            .ts
+            .predict_many(&from.velocity, &self.terms_in(from, from_frame))?;
+        let mut out = from.velocity;
+        for (o, &d) in out.iter_mut().zip(increments.iter()) {
+            *o += d;
+        }
+        next.velocity = out;
+        Ok(())
     }
 
     fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
@@ -200,13 +340,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
-        let terms = self.terms(from);
-        let mut out = from.velocity;
-        for (o, t) in out.iter_mut().zip(terms.iter()) {
-            *o += self.ts.predict(&from.velocity, t)?;
-        }
-        next.velocity = out;
-        Ok(())
+        self.predict_in(from, &BodyFrame::of(&from.attitude), next)
     }
 
     fn reset(&mut self) {
@@ -340,12 +474,34 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Result<Self, Error> {
+        Self::check_new(structure, &config, &scaling)?;
+        Ok(Self::with_scaling_unchecked(
+            axis, rules, structure, config, scaling,
+        ))
+    }
+
+    pub(crate) fn check_new(
+        structure: RateStructure,
+        config: &RlsConfig<T>,
+        scaling: &Scaling<T, D>,
+    ) -> Result<(), Error> {
         check_terms(structure.terms(), D)?;
-        Ok(Self {
-            ts: TsRls::with_scaling(rules, config, scaling)?,
+        TsRls::<T, 3, R, D, N, NP>::check_new(config, scaling)
+    }
+
+    #[inline(always)]
+    pub(crate) fn with_scaling_unchecked(
+        axis: RateAxis,
+        rules: RuleBase<T, 3, R>,
+        structure: RateStructure,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Self {
+        Self {
+            ts: TsRls::with_scaling_unchecked(rules, config, scaling),
             axis,
             structure,
-        })
+        }
     }
 
     /// The consequent structure.

@@ -1,5 +1,5 @@
-//! Onboard identification: the two identifiers and the handlers of the identification
-//! messages (board-agnostic, like [`crate::link`]).
+//! Onboard identification (firmware-example): the two identifiers and the handlers of the identification
+//! messages (board-agnostic, like firmware-example's `link` module).
 //!
 //! * `Sample` → `Estimate`: one sample stepped through the fuzzy identifier (U-D default or
 //!   the paper's covariance form, chosen by `Reset`) and the plain baseline, each timed.
@@ -13,6 +13,8 @@
 //!   to the live identifier, plus the rollback copy `HoverIdentifier::import` keeps on the
 //!   stack, needs ≈ 33 KiB, more than the 32 KiB RAM budget (see `docs/protocol.md`).
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
+
+#![no_std]
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
@@ -67,15 +69,6 @@ fn build_plain(
     c: HoverConfig<f32>,
 ) {
     dst.write(PaperPlainIdentifier::paper_plain(c));
-}
-
-/// Overwrites an initialised value in place through `build` (no drop needed: the
-/// identifiers own no resources).
-fn rebuild<T>(slot: &mut T, build: impl FnOnce(&mut MaybeUninit<T>)) {
-    // SAFETY: `MaybeUninit<T>` has the layout of `T`; `build` leaves a valid `T` behind
-    // (it always writes), so `slot` is initialised again when the borrow ends.
-    let m = unsafe { &mut *(slot as *mut T).cast::<MaybeUninit<T>>() };
-    build(m);
 }
 
 static ENGINE_TAKEN: AtomicBool = AtomicBool::new(false);
@@ -198,25 +191,25 @@ impl Engine {
         }
     }
 
-    /// `Reset`: both identifiers back to θ = 0, P = αI in `form`.
+    /// `Reset`: both identifiers back to θ = 0, P = αI in `form`. A new form is set in place
+    /// ([`rotorid::HoverIdentifier::reconfigure`]): nothing is rebuilt or moved, so a Reset
+    /// costs no stack beyond the call itself.
     pub fn reset(&mut self, form: RlsForm) -> Result<(), Error> {
         self.stage = None;
+        let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) else {
+            return Err(Error::Numerical);
+        };
         if form == self.form {
-            if let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) {
-                f.reset();
-                p.reset();
-                return Ok(());
-            }
+            f.reset();
+            p.reset();
+            return Ok(());
         }
-        // New estimator form: rebuild in place.
         let c = config(form);
-        rebuild(&mut self.fuzzy, |m| build_fuzzy(m, c));
-        rebuild(&mut self.plain, |m| build_plain(m, c));
+        // Both validate the same settings: the second cannot fail after the first passed.
+        f.reconfigure(c)?;
+        p.reconfigure(c)?;
         self.form = form;
-        match (&self.fuzzy, &self.plain) {
-            (Err(e), _) | (_, Err(e)) => Err(*e),
-            _ => Ok(()),
-        }
+        Ok(())
     }
 
     fn fuzzy_views(&self) -> Option<[ModelView<'_>; 4]> {
@@ -445,7 +438,7 @@ fn dump<const N: usize, const NP: usize>(
         rls.trace().to_bits(),
         counters.updates,
         counters.windup_guards,
-        counters.last_innovation.to_bits(),
+        counters.numerical_skips,
         algorithm,
     ];
     let mut words = [0u8; 4 * ParamsChunk::SUMMARY_WORDS];
