@@ -291,17 +291,25 @@ fn warm_start_sweep_memory() {
         });
     }
     ob.mirror.plain.import(&fresh.plain.export()).unwrap();
-    // The fuzzy identifier refuses (RAM budget), politely.
-    let fsnap = ob.export(Ident::Fuzzy).expect("export");
+    // Fuzzy identifier (imported one model at a time onboard): a corrupted stream is refused
+    // and leaves it reset (here: as fresh as the Reset above made it), then the real one
+    // imports, and both sides continue from the same state.
+    let fsnap = fresh.export(Ident::Fuzzy);
+    let fcrc = rotorid::telemetry::msg::stream_crc(&fsnap);
+    let fresh_fuzzy = ob.export(Ident::Fuzzy).expect("export");
+    let mut bad = fsnap.clone();
+    bad[9000] ^= 4;
     assert_eq!(
-        ob.import(
-            Ident::Fuzzy,
-            &fsnap,
-            rotorid::telemetry::msg::stream_crc(&fsnap)
-        )
-        .expect("import"),
-        Err(NackReason::Refused as u8)
+        ob.import(Ident::Fuzzy, &bad, fcrc).expect("import"),
+        Err(NackReason::BadPayload as u8)
     );
+    assert_eq!(ob.export(Ident::Fuzzy).unwrap(), fresh_fuzzy);
+    assert_eq!(
+        ob.import(Ident::Fuzzy, &fsnap, fcrc).expect("import"),
+        Ok(())
+    );
+    assert_eq!(ob.export(Ident::Fuzzy).unwrap(), fsnap);
+    ob.mirror.fuzzy.import(&fresh.fuzzy.export()).unwrap();
     ob.stream(&messages(&inp[150..], SampleMode::Learn), |_| {})
         .unwrap_or_else(|e| panic!("{e}"));
 

@@ -459,6 +459,13 @@ where
         Ok(())
     }
 
+    /// Ends the sample chain without learning: the next step only anchors, as after
+    /// [`import`](Self::import). A firmware that imports one model at a time (through
+    /// [`velocity_model_mut`](Self::velocity_model_mut) etc.) calls it once it starts.
+    pub fn end_chain(&mut self) {
+        self.previous = None;
+    }
+
     /// Mutable access to the translational model, for importing one model at a time (a
     /// firmware can stage one model's state instead of a whole snapshot). Importing a model
     /// does not restart the sample chain.

@@ -8,10 +8,13 @@
 //! * `ParamsRequest` → `Params`…: θ, diag(P) and a summary of each of the four models.
 //! * `ExportRequest` → `ExportChunk`…: the identifier's state as a byte stream with CRC,
 //!   read straight from the estimators (no copy of the 10.5 KiB state).
-//! * `ImportChunk`…: warm start of the plain identifier (staged, CRC-checked, then imported).
-//!   The fuzzy identifier refuses imports in this firmware: staging its 10.5 KiB snapshot next
-//!   to the live identifier, plus the rollback copy `HoverIdentifier::import` keeps on the
-//!   stack, needs ≈ 33 KiB, more than the 32 KiB RAM budget (see `docs/protocol.md`).
+//! * `ImportChunk`…: warm start. Plain identifier: staged whole, CRC-checked, then imported
+//!   atomically. Fuzzy identifier (10.5 KiB stream): decoded one model at a time into a
+//!   staging `RlsState` (at most the velocity model's 6.2 KiB), each model checked and
+//!   imported when its last byte arrives, the stream CRC checked at the end. Any failure
+//!   (a model the core refuses, a chunk out of order, the CRC, another request arriving
+//!   mid-import) resets the fuzzy identifier, so it never runs with a mix of old and new
+//!   models (see `docs/protocol.md`).
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
 
 #![no_std]
@@ -20,6 +23,7 @@ use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::HoverSnapshot;
+use rotorid::hover::StateModel;
 use rotorid::rls::Rls;
 use rotorid::sweep::SweepSchedule;
 use rotorid::telemetry::msg::{
@@ -27,6 +31,7 @@ use rotorid::telemetry::msg::{
     RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid::telemetry::{Reader, Writer};
+use rotorid::RlsState;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 
 /// Bytes of the plain identifier's snapshot stream: 4 models × (5 + 4 × (2 + 3)).
@@ -51,6 +56,110 @@ pub struct Engine {
     plain: Result<PaperPlainIdentifier<f32>, Error>,
     form: RlsForm,
     stage: Option<ImportStage>,
+    fuzzy_stage: Option<FuzzyImport>,
+}
+
+/// Bytes of the fuzzy identifier's snapshot stream: 4 models × (5 + 4 × (N + NP)).
+pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
+const MODEL_N: [usize; 4] = [54, 36, 18, 18];
+const MODEL_LEN: [usize; 4] = [
+    5 + 4 * (54 + 1485),
+    5 + 4 * (36 + 666),
+    5 + 4 * (18 + 171),
+    5 + 4 * (18 + 171),
+];
+
+/// The model of a fuzzy import being received.
+// Sized by the velocity model on purpose: this is the static staging area (no allocator),
+// one model at a time.
+#[allow(clippy::large_enum_variant)]
+enum FuzzyModel {
+    V(RlsState<f32, 54, 1485>),
+    Q(RlsState<f32, 36, 666>),
+    R(RlsState<f32, 18, 171>),
+    P(RlsState<f32, 18, 171>),
+}
+
+/// A fuzzy import in progress (one model staged at a time).
+struct FuzzyImport {
+    model: usize,
+    /// Bytes of the current model received.
+    pos: usize,
+    word: [u8; 4],
+    state: FuzzyModel,
+    received: usize,
+    total: u32,
+    crc: u32,
+    digest: crc::Digest<'static, u32>,
+    /// Whether a model has been written into the live identifier.
+    touched: bool,
+}
+
+static CRC32: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
+
+fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
+    RlsState {
+        algorithm: rotorid::Algorithm::UdFactor,
+        theta: [0.0; N],
+        factor: [0.0; NP],
+        updates: 0,
+    }
+}
+
+/// Stores byte `pos` of one model's stream (algorithm u8, updates u32, θ, factor as f32).
+/// Not generic: one copy serves all four model sizes.
+fn put(
+    (algorithm, updates, theta, factor): (
+        &mut rotorid::Algorithm,
+        &mut u32,
+        &mut [f32],
+        &mut [f32],
+    ),
+    pos: usize,
+    b: u8,
+    word: &mut [u8; 4],
+) -> bool {
+    match pos {
+        0 => {
+            *algorithm = match b {
+                0 => rotorid::Algorithm::Covariance,
+                1 => rotorid::Algorithm::UdFactor,
+                _ => return false,
+            };
+        }
+        1..=4 => {
+            let shift = 8 * (pos - 1);
+            *updates = (*updates & !(0xff << shift)) | (u32::from(b) << shift);
+        }
+        _ => {
+            let k = (pos - 5) % 4;
+            if let Some(w) = word.get_mut(k) {
+                *w = b;
+            }
+            if k == 3 {
+                let v = f32::from_le_bytes(*word);
+                let i = (pos - 5) / 4;
+                let n = theta.len();
+                if let Some(t) = theta.get_mut(i) {
+                    *t = v;
+                } else if let Some(f) = factor.get_mut(i - n) {
+                    *f = v;
+                }
+            }
+        }
+    }
+    true
+}
+
+fn parts<const N: usize, const NP: usize>(
+    s: &mut RlsState<f32, N, NP>,
+) -> (&mut rotorid::Algorithm, &mut u32, &mut [f32], &mut [f32]) {
+    (
+        &mut s.algorithm,
+        &mut s.updates,
+        &mut s.theta,
+        &mut s.factor,
+    )
 }
 
 /// `paper_fuzzy(c)` written straight into `dst` (the call's return slot is `dst`).
@@ -125,6 +234,7 @@ impl Engine {
             build_plain(&mut *core::ptr::addr_of_mut!((*p).plain).cast(), c);
             core::ptr::addr_of_mut!((*p).form).write(RlsForm::UdDefault);
             core::ptr::addr_of_mut!((*p).stage).write(None);
+            core::ptr::addr_of_mut!((*p).fuzzy_stage).write(None);
         }
         // SAFETY: every field was initialised above.
         let engine = unsafe { slot.assume_init_mut() };
@@ -137,6 +247,7 @@ impl Engine {
         m: &SampleMsg,
         measure: &mut dyn FnMut(&mut dyn FnMut()) -> u64,
     ) -> msg::Estimate {
+        self.abort_fuzzy_import();
         let s = &m.sample;
         let mut fuzzy = None;
         let mut plain = None;
@@ -196,6 +307,7 @@ impl Engine {
     /// costs no stack beyond the call itself.
     pub fn reset(&mut self, form: RlsForm) -> Result<(), Error> {
         self.stage = None;
+        self.fuzzy_stage = None;
         let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) else {
             return Err(Error::Numerical);
         };
@@ -286,9 +398,16 @@ impl Engine {
     pub fn import_chunk(&mut self, seq: u16, c: &DataChunk<'_>, out: &mut dyn Reply) {
         let code = MsgType::ImportChunk.code();
         if c.ident != Ident::Plain {
-            out.nack(seq, code, NackReason::Refused);
+            match self.fuzzy_chunk(c) {
+                Ok(()) => out.ack(seq, code),
+                Err(reason) => {
+                    self.abort_fuzzy_import();
+                    out.nack(seq, code, reason);
+                }
+            }
             return;
         }
+        self.abort_fuzzy_import();
         if c.offset == 0 {
             if c.total as usize != PLAIN_SNAPSHOT_LEN {
                 self.stage = None;
@@ -343,6 +462,101 @@ impl Engine {
         }) {
             Ok(()) => out.ack(seq, code),
             Err(reason) => out.nack(seq, code, reason),
+        }
+    }
+
+    /// Drops a fuzzy import in progress; if it had already written a model, the fuzzy
+    /// identifier is reset (never a mix of old and new models).
+    fn abort_fuzzy_import(&mut self) {
+        if let Some(st) = self.fuzzy_stage.take() {
+            if st.touched {
+                if let Ok(f) = &mut self.fuzzy {
+                    f.reset();
+                }
+            }
+        }
+    }
+
+    /// One chunk of a fuzzy import. `Ok` = acknowledge (the last chunk: all imported).
+    fn fuzzy_chunk(&mut self, c: &DataChunk<'_>) -> Result<(), NackReason> {
+        if c.offset == 0 {
+            self.abort_fuzzy_import();
+            if c.total as usize != FUZZY_SNAPSHOT_LEN {
+                return Err(NackReason::BadPayload);
+            }
+            self.fuzzy_stage = Some(FuzzyImport {
+                model: 0,
+                pos: 0,
+                word: [0; 4],
+                state: FuzzyModel::V(blank()),
+                received: 0,
+                total: c.total,
+                crc: c.crc,
+                digest: CRC32.digest(),
+                touched: false,
+            });
+        }
+        let Some(st) = self.fuzzy_stage.as_mut() else {
+            return Err(NackReason::BadPayload);
+        };
+        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
+        if !in_order || st.received + c.data.len() > st.total as usize {
+            return Err(NackReason::BadPayload);
+        }
+        st.digest.update(c.data);
+        st.received += c.data.len();
+        let Ok(f) = &mut self.fuzzy else {
+            return Err(NackReason::Refused);
+        };
+        for &b in c.data {
+            let target = match &mut st.state {
+                FuzzyModel::V(s) => parts(s),
+                FuzzyModel::Q(s) => parts(s),
+                FuzzyModel::R(s) | FuzzyModel::P(s) => parts(s),
+            };
+            let ok = put(target, st.pos, b, &mut st.word);
+            if !ok {
+                return Err(NackReason::BadPayload);
+            }
+            st.pos += 1;
+            if st.pos < MODEL_LEN.get(st.model).copied().unwrap_or(0) {
+                continue;
+            }
+            // A whole model: check and import it, then stage the next.
+            if !st.touched {
+                f.end_chain();
+                st.touched = true;
+            }
+            let r = match &st.state {
+                FuzzyModel::V(s) => f.velocity_model_mut().import(s),
+                FuzzyModel::Q(s) => f.pitch_model_mut().import(s),
+                FuzzyModel::R(s) => f.yaw_model_mut().import(s),
+                FuzzyModel::P(s) => f.roll_model_mut().import(s),
+            };
+            if let Err(e) = r {
+                defmt::warn!("import refused by the core: {}", e);
+                return Err(NackReason::Refused);
+            }
+            st.model += 1;
+            st.pos = 0;
+            match st.model {
+                1 => st.state = FuzzyModel::Q(blank()),
+                2 => st.state = FuzzyModel::R(blank()),
+                3 => st.state = FuzzyModel::P(blank()),
+                _ => {}
+            }
+        }
+        if st.received < st.total as usize {
+            return Ok(());
+        }
+        let done = st.model == MODEL_N.len();
+        let crc_ok = st.digest.clone().finalize() == st.crc;
+        if done && crc_ok {
+            // Complete: nothing to undo any more.
+            self.fuzzy_stage = None;
+            Ok(())
+        } else {
+            Err(NackReason::BadPayload)
         }
     }
 
