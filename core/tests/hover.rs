@@ -327,3 +327,42 @@ fn import_checks_every_model_before_writing_any() {
     b.velocity_model_mut().import(&a.export().velocity).unwrap();
     assert_eq!(b.export().velocity, a.export().velocity);
 }
+
+/// The body frame is computed with one `sincos` per angle and kept from the previous step:
+/// both must give exactly what separate `sin`/`cos` and a fresh computation give.
+#[test]
+fn body_frame_matches_separate_sin_cos_bit_for_bit() {
+    use rotorid::hover::{right_axis, BodyFrame};
+    let angles = (-4000..=4000).map(|i| i as f32 * 1.0e-3 * core::f32::consts::PI);
+    for a in angles {
+        let (s, c) = (libm::sinf(a), libm::cosf(a));
+        let b = (a * 0.37, a * -0.61);
+        let f = BodyFrame::new(a, b.0, b.1);
+        let want_up = [
+            s * libm::cosf(b.1) - c * libm::sinf(b.0) * libm::sinf(b.1),
+            c * libm::cosf(b.0),
+            s * libm::sinf(b.1) + c * libm::sinf(b.0) * libm::cosf(b.1),
+        ];
+        let bits = |v: [f32; 3]| v.map(f32::to_bits);
+        assert_eq!(bits(f.rotor_axis()), bits(want_up), "angle {a}");
+        assert_eq!(bits(rotor_axis(a, b.0, b.1)), bits(want_up));
+        assert_eq!(bits(f.right_axis()), bits(right_axis(a, b.0, b.1)));
+    }
+}
+
+/// A step that uses the kept frame and the once-computed firing strengths predicts exactly
+/// what `predict` computes from scratch.
+#[test]
+fn step_prediction_equals_fresh_predict() {
+    let mut id = PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::default()).unwrap();
+    for k in 0..50 {
+        let s = sample(k);
+        let out = id.step(&s).unwrap();
+        let fresh = id.predict(&s).unwrap();
+        assert_eq!(out.prediction, fresh, "step {k}");
+    }
+    // end_chain: the next step only anchors.
+    id.end_chain();
+    assert!(id.previous_sample().is_none());
+    assert!(id.step(&sample(50)).unwrap().innovation.is_none());
+}
