@@ -16,6 +16,7 @@
 //! measurement noise and light turbulence.
 
 use nalgebra::Vector3;
+use rotorid::convergence::ConvergenceMonitor;
 use rotorid::frames::NedFrdSample;
 use rotorid::hover::{
     Attitude, Controls, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel,
@@ -548,7 +549,23 @@ pub struct TrainingStats {
     /// Mean absolute one-step error of the still-adapting predictions over the training data
     /// (each prediction made with θ learnt up to the sample it starts from).
     pub one_step: [f64; 6],
+    /// The core's scale-free convergence indicator at the end of training
+    /// ([`rotorid::convergence::ConvergenceMonitor`], windows of [`CONVERGENCE_WINDOW`]
+    /// samples): ρ = Σe²/ΣΔy² per state over the last window (1 = no better than hold).
+    #[serde(default)]
+    pub convergence_ratio: [f64; 6],
+    /// Whether ρ had settled (changed by at most [`CONVERGENCE_TOLERANCE`] over
+    /// [`CONVERGENCE_SETTLE`] consecutive windows) per state.
+    #[serde(default)]
+    pub converged: [bool; 6],
 }
+
+/// Window of the convergence indicator in training reports (samples: 5 s at 50 Hz).
+pub const CONVERGENCE_WINDOW: u32 = 250;
+/// Relative change of ρ between windows counted as settled.
+pub const CONVERGENCE_TOLERANCE: f64 = 0.2;
+/// Consecutive settled windows required.
+pub const CONVERGENCE_SETTLE: u16 = 3;
 
 /// Trains `id` online over `logs` (each its own sample chain: [`Identifier::resume`] at the
 /// start of each log and after a gap or a refused sample). `progress` is called once per
@@ -560,9 +577,16 @@ pub fn train(
 ) -> TrainingStats {
     let mut stats = TrainingStats::default();
     let mut pairs: Vec<(HoverState<f32>, HoverState<f32>)> = Vec::new();
+    let mut monitor = ConvergenceMonitor::<f64, 6>::new(
+        CONVERGENCE_WINDOW,
+        CONVERGENCE_TOLERANCE,
+        CONVERGENCE_SETTLE,
+    )
+    .ok();
     for log in logs {
         let mut pending: Option<HoverState<f32>> = None;
         let mut chained = false;
+        let mut previous: Option<HoverSample<f32>> = None;
         for s in log {
             progress();
             stats.samples += 1;
@@ -570,6 +594,14 @@ pub fn train(
                 match id.step(s) {
                     Ok(out) => {
                         stats.updates += 1;
+                        if let (Some(m), Some(p), Some(inn)) =
+                            (monitor.as_mut(), previous.as_ref(), out.innovation.as_ref())
+                        {
+                            let (a, b) = (p.state().to_array(), s.state().to_array());
+                            let increment: [f64; 6] =
+                                core::array::from_fn(|i| f64::from(b[i]) - f64::from(a[i]));
+                            let _ = m.observe(&inn.to_array().map(f64::from), &increment);
+                        }
                         Ok(out.prediction)
                     }
                     Err(rotorid::Error::TimeStep { .. } | rotorid::Error::NonMonotonicTime) => {
@@ -590,15 +622,21 @@ pub fn train(
                     }
                     pending = Some(pred);
                     chained = true;
+                    previous = Some(*s);
                 }
                 Err(_) => {
                     stats.rejected += 1;
                     pending = None;
+                    previous = None;
                 }
             }
         }
     }
     stats.one_step = mean_abs_errors(pairs.iter().map(|(p, a)| (p, a)));
+    if let Some(m) = monitor {
+        stats.convergence_ratio = m.status().ratio;
+        stats.converged = m.status().converged;
+    }
     stats
 }
 

@@ -87,19 +87,25 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
         let _ = writeln!(s, "{} — {}", v.name, v.description);
         let _ = writeln!(
             s,
-            "  {:<12} {:>10} {:>10} {:>10} {:>12} {:>12}",
-            "state", "hold", "one-step", "adapting", "free run", "hold (run)"
+            "  {:<12} {:>10} {:>10} {:>10} {:>12} {:>12} {:>16}",
+            "state", "hold", "one-step", "adapting", "free run", "hold (run)", "converged (ρ)"
         );
         for (i, label) in labels.iter().enumerate() {
+            let t = &v.training;
             let _ = writeln!(
                 s,
-                "  {:<12} {:>10.4} {:>10.4} {:>10.4} {:>12.4} {:>12.4}",
+                "  {:<12} {:>10.4} {:>10.4} {:>10.4} {:>12.4} {:>12.4} {:>16}",
                 label,
                 v.hold_one_step[i],
                 v.one_step[i],
                 v.one_step_adapting[i],
                 v.free_run[i],
-                v.hold_free_run[i]
+                v.hold_free_run[i],
+                format!(
+                    "{} ({:.3})",
+                    if t.converged[i] { "yes" } else { "no" },
+                    t.convergence_ratio[i]
+                )
             );
         }
         let _ = writeln!(
@@ -395,6 +401,17 @@ pub fn variants_markdown(m: &Metrics) -> String {
         s += &row(
             &format!("{}, one step on its training data", v.name),
             &fmt4(&v.training.one_step),
+        );
+        let rho: Vec<String> = v
+            .training
+            .convergence_ratio
+            .iter()
+            .zip(v.training.converged)
+            .map(|(r, c)| format!("{r:.3}{}", if c { " (settled)" } else { "" }))
+            .collect();
+        s += &row(
+            &format!("{}, convergence ρ = Σe²/ΣΔy² at end of training", v.name),
+            &rho,
         );
         s += &row(
             &format!("{}, free run {} s", v.name, m.window_s),
