@@ -16,6 +16,7 @@ use std::io::{Read, Write};
 use std::net::{Ipv4Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicU16, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -260,21 +261,30 @@ impl FirmwareLink {
         Self::boot_with(&BootOptions::icount())
     }
 
-    /// Builds and boots the firmware; retries once if the chosen port was taken meanwhile.
+    /// Builds and boots the firmware. A boot that fails before the firmware's Hello (QEMU could
+    /// not bind its port, the connection was reset, the handshake timed out on a loaded
+    /// machine) is retried with a new port, up to [`BOOT_ATTEMPTS`] times.
     pub fn boot_with(opts: &BootOptions) -> Result<Self, LinkError> {
         let elf = build_firmware()?;
-        match Self::start(&elf, opts) {
-            Err(LinkError::Connect { .. }) => Self::start(&elf, opts),
-            r => r,
+        let mut attempt = 1;
+        loop {
+            match Self::start(&elf, opts) {
+                Err(
+                    e @ (LinkError::Connect { .. }
+                    | LinkError::Io { .. }
+                    | LinkError::Timeout { .. }
+                    | LinkError::Protocol { .. }),
+                ) if attempt < BOOT_ATTEMPTS => {
+                    eprintln!("firmware boot attempt {attempt} failed, retrying: {e}");
+                    attempt += 1;
+                }
+                r => return r,
+            }
         }
     }
 
     fn start(elf: &Path, opts: &BootOptions) -> Result<Self, LinkError> {
-        // Ask the OS for a free port; QEMU binds it a moment later (small race, hence retry).
-        let port = TcpListener::bind((Ipv4Addr::LOCALHOST, 0))
-            .and_then(|l| l.local_addr())
-            .map_err(LinkError::Spawn)?
-            .port();
+        let port = pick_port().map_err(LinkError::Spawn)?;
         let mut cmd = Command::new("qemu-system-arm");
         cmd.args(["-cpu", "cortex-m4", "-machine", "mps2-an386"])
             .args(["-display", "none", "-monitor", "none"])
@@ -575,4 +585,31 @@ pub fn wire_frame(msg_type: u8, seq: u16, payload: &[u8]) -> Result<Vec<u8>, Enc
     let mut wire = [0u8; MAX_WIRE_LEN];
     let n = encode_frame(msg_type, seq, payload, &mut wire)?;
     Ok(wire[..n].to_vec())
+}
+
+/// Boots tried before [`FirmwareLink::boot_with`] gives up.
+pub const BOOT_ATTEMPTS: u32 = 4;
+
+/// A loopback port for QEMU's serial server. Ports come from a sequence that starts at an
+/// offset derived from the process id, so the tests of one binary, which boot in parallel
+/// threads, never pick the same port; a port that is taken is skipped. (Binding port 0 and
+/// releasing it lets two threads receive the same port before either QEMU binds it.)
+fn pick_port() -> std::io::Result<u16> {
+    static NEXT: AtomicU16 = AtomicU16::new(0);
+    const FIRST: u32 = 20_000;
+    const SPAN: u32 = 40_000;
+    let base = std::process::id() % SPAN;
+    for _ in 0..500 {
+        let offset = u32::from(NEXT.fetch_add(1, Ordering::Relaxed));
+        let port = FIRST + (base + offset * 7) % SPAN;
+        let Ok(port) = u16::try_from(port) else {
+            continue;
+        };
+        if TcpListener::bind((Ipv4Addr::LOCALHOST, port)).is_ok() {
+            return Ok(port);
+        }
+    }
+    TcpListener::bind((Ipv4Addr::LOCALHOST, 0))
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
 }
