@@ -475,6 +475,17 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
+        // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these.
+        let mut nz = [0u16; N];
+        let mut nnz = 0;
+        for (j, &x) in xi.iter().enumerate() {
+            if x != T::zero() {
+                if let Some(slot) = nz.get_mut(nnz) {
+                    *slot = j as u16;
+                    nnz += 1;
+                }
+            }
+        }
         let e = y - dot(xi, &self.theta);
         let mut w = Work {
             config: &self.config,
@@ -482,7 +493,8 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             factor: &mut self.factor,
             counters: &mut self.counters,
         };
-        let applied = w.update(xi, e, &mut s1, &mut s2, &mut s3);
+        let nz = nz.get(..nnz).unwrap_or(&[]);
+        let applied = w.update(xi, nz, e, &mut s1, &mut s2, &mut s3);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
@@ -501,18 +513,19 @@ impl<T: Real> Work<'_, T> {
     /// One update with prior innovation `e`; scratch slices of length N. Returns whether it
     /// was applied.
     #[inline(never)]
-    fn update(&mut self, xi: &[T], e: T, s1: &mut [T], s2: &mut [T], s3: &mut [T]) -> bool {
-        // ξ_i = 0 for every i ≥ `active`.
-        let mut active = 0;
-        for (j, &x) in xi.iter().enumerate() {
-            if x != T::zero() {
-                active = j + 1;
-            }
-        }
+    fn update(
+        &mut self,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        s1: &mut [T],
+        s2: &mut [T],
+        s3: &mut [T],
+    ) -> bool {
         match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, active, e, s1, s2),
+            Algorithm::Covariance => self.covariance_update(xi, nz, e, s1, s2),
             Algorithm::UdFactor => {
-                self.ud_update(xi, active, e, s1, s2, s3);
+                self.ud_update(xi, nz, e, s1, s2, s3);
                 true
             }
         }
@@ -520,20 +533,13 @@ impl<T: Real> Work<'_, T> {
 
     /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
     /// update was applied (see [`RlsCounters::numerical_skips`]).
-    fn covariance_update(
-        &mut self,
-        xi: &[T],
-        active: usize,
-        e: T,
-        g: &mut [T],
-        k: &mut [T],
-    ) -> bool {
+    fn covariance_update(&mut self, xi: &[T], nz: &[u16], e: T, g: &mut [T], k: &mut [T]) -> bool {
         let lambda = self.config.forgetting;
         // g = P ξ, one column of the packed triangle at a time: column j holds P(i, j) for
         // i ≤ j, which gives g_i += P(i, j) ξ_j for i < j and g_j = Σ_{i ≤ j} P(i, j) ξ_i
         // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
-        // j from +0, as P ξ written out. Zero ξ_j are skipped (or add ±0 to a sum from +0,
-        // which changes nothing): no sum reaches past `active`.
+        // j from +0, as P ξ written out. Zero ξ_j are skipped: `nz` lists the others, and a
+        // skipped term would only add ±0 to a sum from +0, which changes nothing.
         for (j, &xj) in xi.iter().enumerate() {
             let start = col(j);
             let Some((&pjj, above)) = self
@@ -545,9 +551,14 @@ impl<T: Real> Work<'_, T> {
             };
             let mut s = T::zero();
             if xj == T::zero() {
-                let n = j.min(active);
-                let (ps, xs) = (above.get(..n).unwrap_or(&[]), xi.get(..n).unwrap_or(&[]));
-                for (&p, &x) in ps.iter().zip(xs) {
+                for &i in nz {
+                    let i = usize::from(i);
+                    if i >= j {
+                        break;
+                    }
+                    let (Some(&p), Some(&x)) = (above.get(i), xi.get(i)) else {
+                        break;
+                    };
                     s += p * x;
                 }
             } else {
@@ -623,11 +634,11 @@ impl<T: Real> Work<'_, T> {
     }
 
     /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
-    fn ud_update(&mut self, xi: &[T], active: usize, e: T, f: &mut [T], v: &mut [T], b: &mut [T]) {
+    fn ud_update(&mut self, xi: &[T], nz: &[u16], e: T, f: &mut [T], v: &mut [T], b: &mut [T]) {
         let lambda = self.config.forgetting;
-        // f = Uᵀ ξ (U unit upper triangular); v = D f. ξ_i = 0 for every i ≥ `active`, so the
-        // sums stop there; the zero ξ_i below it add ±0, which changes no non-zero sum and
-        // at most the sign of a zero f_j (whose column is skipped either way).
+        // f = Uᵀ ξ (U unit upper triangular); v = D f. The sums visit the non-zero ξ_i only
+        // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
+        // most the sign of a zero f_j (whose column is skipped either way).
         for (j, ((fj, vj), &xj)) in f.iter_mut().zip(v.iter_mut()).zip(xi.iter()).enumerate() {
             let start = col(j);
             let Some((&dj, above)) = self
@@ -637,10 +648,15 @@ impl<T: Real> Work<'_, T> {
             else {
                 continue;
             };
-            let n = j.min(active);
             let mut s = xj;
-            let (us, xs) = (above.get(..n).unwrap_or(&[]), xi.get(..n).unwrap_or(&[]));
-            for (&u, &x) in us.iter().zip(xs) {
+            for &i in nz {
+                let i = usize::from(i);
+                if i >= j {
+                    break;
+                }
+                let (Some(&u), Some(&x)) = (above.get(i), xi.get(i)) else {
+                    break;
+                };
                 s += u * x;
             }
             *fj = s;
@@ -648,7 +664,12 @@ impl<T: Real> Work<'_, T> {
         }
         // b accumulates the unnormalised gain U D f = P ξ.
         let mut alpha = lambda;
-        let mut inv_alpha = T::one() / lambda;
+        // 1/λ, without a division in the usual case λ = 1 (1/1 = 1 exactly).
+        let mut inv_alpha = if lambda == T::one() {
+            T::one()
+        } else {
+            T::one() / lambda
+        };
         for (j, (&fj, &vj)) in f.iter().zip(v.iter()).enumerate() {
             if fj == T::zero() {
                 continue; // v_j = 0: column j and D_j unchanged, b unchanged
