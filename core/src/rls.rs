@@ -400,9 +400,21 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         targets: &[T; M],
         innovations: &[T; M],
     ) {
-        let _ = innovations;
-        for (xi, &y) in regressors.iter().zip(targets.iter()) {
-            self.update_checked(xi, y);
+        for (m, ((xi, &y), &prior)) in regressors
+            .iter()
+            .zip(targets.iter())
+            .zip(innovations.iter())
+            .enumerate()
+        {
+            // The first measurement's innovation was computed by `check` with this very θ
+            // (the same dot product, the same bits); later ones see θ after the earlier
+            // measurements of this step and are recomputed.
+            let e = if m == 0 {
+                prior
+            } else {
+                y - dot(xi, &self.theta)
+            };
+            self.update_checked(xi, e);
         }
     }
 
@@ -468,10 +480,10 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
 
     /// One scalar update whose inputs passed the checks of `update_many`.
     ///
-    /// The work is done by [`update_slices`], generic over the scalar only: one copy of the
+    /// The work is done by `Work::update`, generic over the scalar only: one copy of the
     /// update code serves every size N (a firmware with several models would otherwise carry
     /// one per size).
-    fn update_checked(&mut self, xi: &[T; N], y: T) {
+    fn update_checked(&mut self, xi: &[T; N], e: T) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
@@ -486,7 +498,6 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 }
             }
         }
-        let e = y - dot(xi, &self.theta);
         let mut w = Work {
             config: &self.config,
             theta: &mut self.theta,
