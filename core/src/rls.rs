@@ -155,6 +155,20 @@ pub struct Rls<T, const N: usize, const NP: usize> {
     counters: RlsCounters,
 }
 
+/// Column j of a packed upper triangle: its diagonal entry and the j entries above it.
+#[inline(always)]
+fn column<T>(packed: &[T], j: usize) -> Option<(&T, &[T])> {
+    let start = col(j);
+    packed.get(start..=start + j)?.split_last()
+}
+
+/// [`column`], mutable.
+#[inline(always)]
+fn column_mut<T>(packed: &mut [T], j: usize) -> Option<(&mut T, &mut [T])> {
+    let start = col(j);
+    packed.get_mut(start..=start + j)?.split_last_mut()
+}
+
 /// Start of column j of the packed upper triangle.
 #[inline(always)]
 const fn col(j: usize) -> usize {
@@ -216,12 +230,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         self.theta = [T::zero(); N];
         let diag = self.config.initial_covariance;
         for j in 0..N {
-            let start = col(j);
-            if let Some((diagonal, above)) = self
-                .factor
-                .get_mut(start..=start + j)
-                .and_then(|column| column.split_last_mut())
-            {
+            if let Some((diagonal, above)) = column_mut(&mut self.factor, j) {
                 for u in above {
                     *u = T::zero();
                 }
@@ -268,11 +277,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             }
             Algorithm::UdFactor => {
                 for j in 0..N {
-                    let start = col(j);
-                    let Some(column) = self.factor.get(start..=start + j) else {
-                        continue;
-                    };
-                    let Some((&dj, above)) = column.split_last() else {
+                    let Some((&dj, above)) = column(&self.factor, j) else {
                         continue;
                     };
                     for (d, &u) in diag.iter_mut().zip(above) {
@@ -552,12 +557,7 @@ impl<T: Real> Work<'_, T> {
         // j from +0, as P ξ written out. Zero ξ_j are skipped: `nz` lists the others, and a
         // skipped term would only add ±0 to a sum from +0, which changes nothing.
         for (j, &xj) in xi.iter().enumerate() {
-            let start = col(j);
-            let Some((&pjj, above)) = self
-                .factor
-                .get(start..=start + j)
-                .and_then(|column| column.split_last())
-            else {
+            let Some((&pjj, above)) = column(self.factor, j) else {
                 continue;
             };
             let mut s = T::zero();
@@ -651,12 +651,7 @@ impl<T: Real> Work<'_, T> {
         // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
         // most the sign of a zero f_j (whose column is skipped either way).
         for (j, ((fj, vj), &xj)) in f.iter_mut().zip(v.iter_mut()).zip(xi.iter()).enumerate() {
-            let start = col(j);
-            let Some((&dj, above)) = self
-                .factor
-                .get(start..=start + j)
-                .and_then(|column| column.split_last())
-            else {
+            let Some((&dj, above)) = column(self.factor, j) else {
                 continue;
             };
             let mut s = xj;
@@ -691,12 +686,7 @@ impl<T: Real> Work<'_, T> {
             // One division per column: 1/α_j serves this column's D update and the next p.
             inv_alpha = T::one() / alpha;
             let p = -fj * inv_prev;
-            let start = col(j);
-            let Some((dj, above)) = self
-                .factor
-                .get_mut(start..=start + j)
-                .and_then(|column| column.split_last_mut())
-            else {
+            let Some((dj, above)) = column_mut(self.factor, j) else {
                 continue;
             };
             *dj *= alpha_prev * inv_alpha;
@@ -735,12 +725,7 @@ impl<T: Real> Work<'_, T> {
             *d = T::zero();
         }
         for j in 0..self.theta.len() {
-            let start = col(j);
-            let Some((&dj, above)) = self
-                .factor
-                .get(start..=start + j)
-                .and_then(|column| column.split_last())
-            else {
+            let Some((&dj, above)) = column(self.factor, j) else {
                 continue;
             };
             for (d, &u) in diag.iter_mut().zip(above) {
