@@ -137,7 +137,8 @@ pub struct RlsState<T, const N: usize, const NP: usize> {
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RlsCounters {
-    /// Updates made since construction or reset.
+    /// Rank-one measurement updates made since construction or reset (outputs that
+    /// [`TsRls`](crate::ts::TsRls) combines into one row count once).
     pub updates: u32,
     /// Steps in which forgetting was suspended by the trace bound.
     pub windup_guards: u32,
@@ -352,16 +353,20 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         Ok(e)
     }
 
-    /// M scalar measurements that share θ, processed one after another (exact for RLS with
-    /// unit measurement weights). All inputs are checked first; the returned innovations are
-    /// the prior ones, `y_m − ξ_mᵀθ(k)`, all taken with θ before this call.
+    /// M scalar measurements that share θ, taken at the same time, processed one after another
+    /// (exact for RLS with unit measurement weights). Forgetting is applied once per call,
+    /// after the last measurement: `P⁻¹ ← λ (P⁻¹ + Σ_m ξ_m ξ_mᵀ)`, so λ discounts per sample,
+    /// however many outputs a sample has. All inputs are checked first; the returned
+    /// innovations are the prior ones, `y_m − ξ_mᵀθ(k)`, all taken with θ before this call.
     pub fn update_many<const M: usize>(
         &mut self,
         regressors: &[[T; N]; M],
         targets: &[T; M],
     ) -> Result<[T; M], Error> {
         let innovations = self.check(regressors, targets)?;
-        self.apply(regressors, targets, &innovations);
+        if let Some(&first) = innovations.first() {
+            self.apply(regressors, targets, first);
+        }
         Ok(innovations)
     }
 
@@ -373,8 +378,19 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         regressors: &[[T; N]; M],
         targets: &[T; M],
     ) -> Result<[T; M], Error> {
-        let limit = T::lit(TARGET_LIMIT);
         let mut innovations = [T::zero(); M];
+        self.check_rows(regressors, targets, &mut innovations)?;
+        Ok(innovations)
+    }
+
+    /// [`check`](Self::check) over as many rows as `innovations` has (errors name the row).
+    fn check_rows(
+        &self,
+        regressors: &[[T; N]],
+        targets: &[T],
+        innovations: &mut [T],
+    ) -> Result<(), Error> {
+        let limit = T::lit(TARGET_LIMIT);
         for (m, ((xi, &y), e)) in regressors
             .iter()
             .zip(targets.iter())
@@ -393,34 +409,36 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 return Err(Error::OutOfRange(Quantity::Target(m as u8)));
             }
         }
-        Ok(innovations)
+        Ok(())
     }
 
-    /// The update of [`update_many`](Self::update_many) for inputs that passed
-    /// [`check`](Self::check) (with the innovations it returned). Infallible: within those
-    /// limits no intermediate can overflow.
-    pub(crate) fn apply<const M: usize>(
-        &mut self,
-        regressors: &[[T; N]; M],
-        targets: &[T; M],
-        innovations: &[T; M],
-    ) {
-        for (m, ((xi, &y), &prior)) in regressors
-            .iter()
-            .zip(targets.iter())
-            .zip(innovations.iter())
-            .enumerate()
-        {
-            // The first measurement's innovation was computed by `check` with this very θ
-            // (the same dot product, the same bits); later ones see θ after the earlier
-            // measurements of this step and are recomputed.
+    /// The update of [`update_many`](Self::update_many) for rows that passed
+    /// [`check_rows`](Self::check_rows), `first` being the prior innovation it returned for
+    /// row 0. Infallible: within those limits no intermediate can overflow.
+    fn apply(&mut self, regressors: &[[T; N]], targets: &[T], first: T) {
+        let last = regressors.len().saturating_sub(1);
+        for (m, (xi, &y)) in regressors.iter().zip(targets.iter()).enumerate() {
+            // Row 0's innovation was computed by `check_rows` with this very θ (the same dot
+            // product, the same bits); later rows see θ after the earlier rows of this sample
+            // and are recomputed.
             let e = if m == 0 {
-                prior
+                first
             } else {
                 y - dot(xi, &self.theta)
             };
-            self.update_checked(xi, e);
+            // λ once per sample: the earlier rows are plain measurement updates.
+            let lambda = if m == last {
+                self.config.forgetting
+            } else {
+                T::one()
+            };
+            self.update_row(xi, e, lambda);
         }
+    }
+
+    /// `ξᵀθ` without checks (for regressors whose entries are known to be within the limits).
+    pub(crate) fn dot(&self, xi: &[T; N]) -> T {
+        dot(xi, &self.theta)
     }
 
     /// Exports everything learnt (θ, packed factor, update count).
@@ -488,7 +506,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// The work is done by `Work::update`, generic over the scalar only: one copy of the
     /// update code serves every size N (a firmware with several models would otherwise carry
     /// one per size).
-    fn update_checked(&mut self, xi: &[T; N], e: T) {
+    pub(crate) fn update_row(&mut self, xi: &[T; N], e: T, lambda: T) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
@@ -510,7 +528,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             counters: &mut self.counters,
         };
         let nz = nz.get(..nnz).unwrap_or(&[]);
-        let applied = w.update(xi, nz, e, &mut s1, &mut s2, &mut s3);
+        let applied = w.update(xi, nz, e, lambda, &mut s1, &mut s2, &mut s3);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
@@ -526,22 +544,24 @@ struct Work<'a, T> {
 }
 
 impl<T: Real> Work<'_, T> {
-    /// One update with prior innovation `e`; scratch slices of length N. Returns whether it
-    /// was applied.
+    /// One update with prior innovation `e` and forgetting factor `lambda`; scratch slices of
+    /// length N. Returns whether it was applied.
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn update(
         &mut self,
         xi: &[T],
         nz: &[u16],
         e: T,
+        lambda: T,
         s1: &mut [T],
         s2: &mut [T],
         s3: &mut [T],
     ) -> bool {
         match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, nz, e, s1, s2),
+            Algorithm::Covariance => self.covariance_update(xi, nz, e, lambda, s1, s2),
             Algorithm::UdFactor => {
-                self.ud_update(xi, nz, e, s1, s2, s3);
+                self.ud_update(xi, nz, e, lambda, s1, s2, s3);
                 true
             }
         }
@@ -549,8 +569,15 @@ impl<T: Real> Work<'_, T> {
 
     /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
     /// update was applied (see [`RlsCounters::numerical_skips`]).
-    fn covariance_update(&mut self, xi: &[T], nz: &[u16], e: T, g: &mut [T], k: &mut [T]) -> bool {
-        let lambda = self.config.forgetting;
+    fn covariance_update(
+        &mut self,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        lambda: T,
+        g: &mut [T],
+        k: &mut [T],
+    ) -> bool {
         // g = P ξ, one column of the packed triangle at a time: column j holds P(i, j) for
         // i ≤ j, which gives g_i += P(i, j) ξ_j for i < j and g_j = Σ_{i ≤ j} P(i, j) ξ_i
         // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
@@ -645,8 +672,17 @@ impl<T: Real> Work<'_, T> {
     }
 
     /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
-    fn ud_update(&mut self, xi: &[T], nz: &[u16], e: T, f: &mut [T], v: &mut [T], b: &mut [T]) {
-        let lambda = self.config.forgetting;
+    #[allow(clippy::too_many_arguments)]
+    fn ud_update(
+        &mut self,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        lambda: T,
+        f: &mut [T],
+        v: &mut [T],
+        b: &mut [T],
+    ) {
         // f = Uᵀ ξ (U unit upper triangular); v = D f. The sums visit the non-zero ξ_i only
         // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
         // most the sign of a zero f_j (whose column is skipped either way).

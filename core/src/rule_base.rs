@@ -84,61 +84,9 @@ impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
     /// for a finite premise.
     pub fn firing_strengths(&self, x: &[T; V]) -> Result<[T; R], Error> {
         self.check_premise(x)?;
-        let mut degrees = [[T::zero(); MAX_SETS]; V];
-        for ((d, sets), &xv) in degrees.iter_mut().zip(self.variables.iter()).zip(x.iter()) {
-            for (dv, mf) in d.iter_mut().zip(sets.iter()) {
-                *dv = mf.degree(xv);
-            }
-        }
-        let mut mu = [T::one(); R];
-        for (m, digits) in mu.iter_mut().zip(self.rules()) {
-            for ((d, sets), &s) in degrees.iter().zip(self.variables.iter()).zip(digits.iter()) {
-                if !sets.is_empty() {
-                    if let Some(&dv) = d.get(s) {
-                        *m *= dv;
-                    }
-                }
-            }
-        }
-        let mut sum = T::zero();
-        for &m in mu.iter() {
-            sum += m;
-        }
-        if sum >= T::MIN_POSITIVE {
-            for m in mu.iter_mut() {
-                *m /= sum;
-            }
-            return Ok(mu);
-        }
-        Ok(self.firing_strengths_log(x))
-    }
-
-    /// The log-domain form used when every premise underflows.
-    fn firing_strengths_log(&self, x: &[T; V]) -> [T; R] {
-        let mut logs = [T::zero(); R];
-        for (l, digits) in logs.iter_mut().zip(self.rules()) {
-            for ((sets, &s), &xv) in self.variables.iter().zip(digits.iter()).zip(x.iter()) {
-                if let Some(mf) = sets.get(s) {
-                    *l += mf.log_degree(xv);
-                }
-            }
-        }
-        let mut max = logs.first().copied().unwrap_or_else(T::zero);
-        for &l in logs.iter() {
-            if l > max {
-                max = l;
-            }
-        }
-        let mut sum = T::zero();
-        for l in logs.iter_mut() {
-            *l = (*l - max).exp();
-            sum += *l;
-        }
-        // sum >= 1: the largest term is exp(0).
-        for l in logs.iter_mut() {
-            *l /= sum;
-        }
-        logs
+        let mut xi = [T::zero(); R];
+        strengths(&self.variables, x, &mut xi);
+        Ok(xi)
     }
 
     /// The rules in order, each as the set index of every variable (0 for variables that
@@ -150,6 +98,106 @@ impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
             remaining: R,
         }
     }
+}
+
+/// The firing strengths of a rule base with sets `variables` at premise `x` (checked finite)
+/// into `xi` (one entry per rule), as [`RuleBase::firing_strengths`] documents.
+///
+/// Generic over the scalar only, with the sizes as slice lengths: one copy of this code serves
+/// every rule base of a firmware (it would otherwise carry one per rule count).
+#[inline(never)]
+fn strengths<T: Real>(variables: &[PremiseSets<T>], x: &[T], xi: &mut [T]) {
+    // Rule premises μ_i, built one variable at a time: after a variable with k sets, entry
+    // `i·k + s` is entry i of the previous variables times that variable's degree in set s.
+    // This is the rule order (first variable most significant) and multiplies each μ_i in
+    // variable order, starting from 1.
+    let len = expand(
+        variables,
+        x,
+        xi,
+        T::one(),
+        MembershipFunction::degree,
+        |p, d| p * d,
+    );
+    let mu = xi.get_mut(..len).unwrap_or(&mut []);
+    let mut sum = T::zero();
+    for &m in mu.iter() {
+        sum += m;
+    }
+    if sum >= T::MIN_POSITIVE {
+        for m in mu.iter_mut() {
+            *m /= sum;
+        }
+        return;
+    }
+    // Every premise underflowed: the same quantity from the exponents,
+    // `ξ_i = exp(l_i − max_j l_j) / Σ_k exp(l_k − max_j l_j)` with `l_i = Σ log μ`.
+    let len = expand(
+        variables,
+        x,
+        xi,
+        T::zero(),
+        MembershipFunction::log_degree,
+        |p, l| p + l,
+    );
+    let logs = xi.get_mut(..len).unwrap_or(&mut []);
+    let mut max = logs.first().copied().unwrap_or_else(T::zero);
+    for &l in logs.iter() {
+        if l > max {
+            max = l;
+        }
+    }
+    let mut sum = T::zero();
+    for l in logs.iter_mut() {
+        *l = (*l - max).exp();
+        sum += *l;
+    }
+    // sum >= 1: the largest term is exp(0).
+    for l in logs.iter_mut() {
+        *l /= sum;
+    }
+}
+
+/// Fills `out` with `combine` folded over the participating variables' `degree`s in rule
+/// order (see [`strengths`]), starting from `init`; each degree is evaluated once. Returns the
+/// number of rules written.
+#[inline(always)]
+fn expand<T: Real>(
+    variables: &[PremiseSets<T>],
+    x: &[T],
+    out: &mut [T],
+    init: T,
+    degree: impl Fn(&MembershipFunction<T>, T) -> T,
+    combine: impl Fn(T, T) -> T,
+) -> usize {
+    let Some(first) = out.first_mut() else {
+        return 0;
+    };
+    *first = init;
+    let mut len = 1;
+    for (sets, &xv) in variables.iter().zip(x.iter()) {
+        let k = sets.len();
+        if k == 0 || len * k > out.len() {
+            continue;
+        }
+        let mut degrees = [T::zero(); MAX_SETS];
+        for (d, mf) in degrees.iter_mut().zip(sets.iter()) {
+            *d = degree(mf, xv);
+        }
+        // Backwards, so that entry i is read before the entries i·k.. that replace it.
+        for i in (0..len).rev() {
+            let Some(&prefix) = out.get(i) else {
+                continue;
+            };
+            for (s, &d) in degrees.iter().take(k).enumerate().rev() {
+                if let Some(o) = out.get_mut(i * k + s) {
+                    *o = combine(prefix, d);
+                }
+            }
+        }
+        len *= k;
+    }
+    len
 }
 
 /// Iterator over the rules of a [`RuleBase`]: for each rule, the set index of every variable.

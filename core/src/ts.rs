@@ -24,9 +24,9 @@
 //! once the data outweigh the prior.
 
 use crate::error::{ConfigError, Error, Quantity};
-use crate::rls::{Rls, RlsConfig, RlsState};
+use crate::rls::{Rls, RlsConfig, RlsState, REGRESSOR_LIMIT, TARGET_LIMIT};
 use crate::rule_base::RuleBase;
-use crate::scalar::Real;
+use crate::scalar::{within, Real};
 
 /// Nominal scales of a model's consequent terms and target (see the [module docs](self)).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -159,26 +159,52 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         self.regressor_from(&strengths, terms)
     }
 
+    /// The consequent terms divided by their scales, `Δ̃_s = Δ_s/S_s`, each checked finite and
+    /// within [`REGRESSOR_LIMIT`]. Since every firing strength is in [0, 1], that bounds every
+    /// regressor entry `Δ̃_s ξ_i` as the estimator requires.
+    #[inline]
+    fn scaled_terms(&self, terms: &[T; D]) -> Result<[T; D], Error> {
+        let limit = T::lit(REGRESSOR_LIMIT);
+        let mut scaled = [T::zero(); D];
+        for (s, ((d, &t), &scale)) in scaled
+            .iter_mut()
+            .zip(terms.iter())
+            .zip(self.scaling.terms.iter())
+            .enumerate()
+        {
+            let at = Quantity::Regressor((s * R) as u16);
+            if !t.is_finite() {
+                return Err(Error::NonFinite(at));
+            }
+            *d = t / scale;
+            if !within(*d, limit) {
+                return Err(Error::OutOfRange(at));
+            }
+        }
+        Ok(scaled)
+    }
+
     /// The regressor for firing strengths already computed from the premise.
     #[inline]
     fn regressor_from(&self, strengths: &[T; R], terms: &[T; D]) -> Result<[T; N], Error> {
-        for (s, t) in terms.iter().enumerate() {
-            if !t.is_finite() {
-                return Err(Error::NonFinite(Quantity::Regressor((s * R) as u16)));
+        Ok(regressor_of(strengths, &self.scaled_terms(terms)?))
+    }
+
+    /// `b_s = Σ_i ξ_i θ̃_{s·R+i}`: the rule-weighted parameter of each term. An output with
+    /// scaled terms Δ̃ predicts `ξᵀθ̃ = Σ_s Δ̃_s b_s` (see [`combine`]): D·R products for all
+    /// outputs instead of N per output.
+    fn block_products(&self, strengths: &[T; R]) -> [T; D] {
+        let mut b = [T::zero(); D];
+        for (bs, theta) in b.iter_mut().zip(self.rls.parameters().chunks_exact(R)) {
+            let mut sum = T::zero();
+            for (&w, &t) in strengths.iter().zip(theta.iter()) {
+                if w != T::zero() {
+                    sum += w * t;
+                }
             }
+            *bs = sum;
         }
-        let mut xi = [T::zero(); N];
-        for ((block, &delta), &scale) in xi
-            .chunks_exact_mut(R)
-            .zip(terms.iter())
-            .zip(self.scaling.terms.iter())
-        {
-            let d = delta / scale;
-            for (x, &w) in block.iter_mut().zip(strengths.iter()) {
-                *x = d * w;
-            }
-        }
-        Ok(xi)
+        b
     }
 
     /// `ξᵀθ` for one output, in the target's physical unit.
@@ -189,16 +215,18 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
 
     /// `ξ_mᵀθ` for M outputs that share the premise (the firing strengths are computed once),
     /// in the target's physical unit; each equal to [`predict`](Self::predict) of its terms.
+    ///
+    /// Computed as `Σ_s Δ̃_s (Σ_i ξ_i θ̃_{s,i})`, the same sum regrouped by term.
     pub fn predict_many<const M: usize>(
         &self,
         premise: &[T; V],
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
         let strengths = self.rules.firing_strengths(premise)?;
+        let b = self.block_products(&strengths);
         let mut out = [T::zero(); M];
         for (o, t) in out.iter_mut().zip(terms.iter()) {
-            let xi = self.regressor_from(&strengths, t)?;
-            *o = self.rls.predict(&xi)? * self.scaling.target;
+            *o = combine(&self.scaled_terms(t)?, &b) * self.scaling.target;
         }
         Ok(out)
     }
@@ -220,41 +248,156 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     /// Everything [`update`](Self::update) checks and computes, without changing anything.
     /// Pass the result to [`apply`](Self::apply) to learn from it; this lets a caller check
     /// several models before it changes any of them.
+    ///
+    /// Every scaled term must be within [`REGRESSOR_LIMIT`], every scaled target and prior
+    /// innovation within [`TARGET_LIMIT`]. Outputs whose regressors are parallel are learnt as
+    /// one measurement (see [`Prepared`]).
     pub fn prepare<const M: usize>(
         &self,
         premise: &[T; V],
         terms: &[[T; D]; M],
         targets: &[T; M],
-    ) -> Result<Prepared<T, N, M>, Error> {
+    ) -> Result<Prepared<T, R, D, M>, Error> {
         let strengths = self.rules.firing_strengths(premise)?;
-        let mut regressors = [[T::zero(); N]; M];
-        for (xi, t) in regressors.iter_mut().zip(terms.iter()) {
-            *xi = self.regressor_from(&strengths, t)?;
-        }
+        let b = self.block_products(&strengths);
+        let limit = T::lit(TARGET_LIMIT);
+        let mut scaled_terms = [[T::zero(); D]; M];
         let mut scaled = [T::zero(); M];
-        for (m, (s, &y)) in scaled.iter_mut().zip(targets.iter()).enumerate() {
-            if !y.is_finite() {
-                return Err(Error::NonFinite(Quantity::Target(m as u8)));
+        let mut innovations = [T::zero(); M];
+        for (m, (((st, y), e), (t, &target))) in scaled_terms
+            .iter_mut()
+            .zip(scaled.iter_mut())
+            .zip(innovations.iter_mut())
+            .zip(terms.iter().zip(targets.iter()))
+            .enumerate()
+        {
+            let at = Quantity::Target(m as u8);
+            *st = self.scaled_terms(t)?;
+            if !target.is_finite() {
+                return Err(Error::NonFinite(at));
             }
-            *s = y / self.scaling.target;
+            *y = target / self.scaling.target;
+            *e = *y - combine(st, &b);
+            if !(within(*y, limit) && within(*e, limit)) {
+                return Err(Error::OutOfRange(at));
+            }
         }
-        let scaled_innovations = self.rls.check(&regressors, &scaled)?;
+
+        // The rows to learn from. Output m's regressor is `Δ̃_m ⊗ ξ`; when Δ̃_m has a single
+        // non-zero term s, it is `Δ̃_{m,s}` times the fixed vector `e_s ⊗ ξ`. Outputs with the
+        // same single term are therefore parallel, and their rank-one updates sum to one:
+        // `Σ_m d_m² g gᵀ = φ φᵀ` and `Σ_m d_m ỹ_m g = φ ỹ` with `φ = ‖d‖ g`, `ỹ = Σ d_m ỹ_m/‖d‖`.
+        // One update instead of several (Eq. 27's v_x and v_z), equal in exact arithmetic.
+        let mut rows = [[T::zero(); D]; M];
+        let mut row_targets = [T::zero(); M];
+        let mut groups = [Group::<T>::default(); M];
+        let mut count = 0;
+        for (st, &y) in scaled_terms.iter().zip(scaled.iter()) {
+            let term = single_term(st);
+            match term {
+                // Δ̃_m = 0: a zero regressor carries no information and gets no row.
+                Term::Zero => continue,
+                Term::Single(slot, d) => {
+                    let mut same = groups.iter_mut().take(count);
+                    if let Some(g) = same.find(|g| g.slot == Some(slot)) {
+                        g.sum_sq += d * d;
+                        g.weighted_target += d * y;
+                        g.members += 1;
+                        continue;
+                    }
+                }
+                Term::Several => {}
+            }
+            let (Some(row), Some(t), Some(g)) = (
+                rows.get_mut(count),
+                row_targets.get_mut(count),
+                groups.get_mut(count),
+            ) else {
+                break;
+            };
+            *row = *st;
+            *t = y;
+            if let Term::Single(slot, d) = term {
+                *g = Group {
+                    slot: Some(slot),
+                    sum_sq: d * d,
+                    weighted_target: d * y,
+                    members: 1,
+                };
+            }
+            count += 1;
+        }
+        if count == 0 {
+            // Every output is zero: learn from output 0's (zero) row all the same, so that the
+            // sample still counts, and forgets, once.
+            if let (Some(t), Some(&y)) = (row_targets.first_mut(), scaled.first()) {
+                *t = y;
+                count = 1;
+            }
+        }
+        let regressor_limit = T::lit(REGRESSOR_LIMIT);
+        for (m, ((g, row), y)) in groups
+            .iter()
+            .zip(rows.iter_mut())
+            .zip(row_targets.iter_mut())
+            .take(count)
+            .enumerate()
+        {
+            if let (Some(slot), true) = (g.slot, g.members > 1) {
+                let norm = g.sum_sq.sqrt();
+                *y = g.weighted_target / norm;
+                if let Some(d) = row.get_mut(slot) {
+                    *d = norm;
+                }
+                if !within(norm, regressor_limit) {
+                    return Err(Error::OutOfRange(Quantity::Regressor((slot * R) as u16)));
+                }
+                if !within(*y, limit) {
+                    return Err(Error::OutOfRange(Quantity::Target(m as u8)));
+                }
+            }
+        }
+        let first = match (rows.first(), row_targets.first()) {
+            (Some(row), Some(&y)) => y - combine(row, &b),
+            _ => T::zero(),
+        };
+        if !within(first, limit) {
+            return Err(Error::OutOfRange(Quantity::Target(0)));
+        }
         Ok(Prepared {
-            regressors,
-            targets: scaled,
-            scaled_innovations,
-            innovations: scaled_innovations.map(|e| e * self.scaling.target),
+            strengths,
+            rows,
+            targets: row_targets,
+            count,
+            first,
+            innovations: innovations.map(|e| e * self.scaling.target),
         })
     }
 
     /// Learns from a [`Prepared`] update made by this model's [`prepare`](Self::prepare)
     /// with the model unchanged since.
-    pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, N, M>) {
-        self.rls.apply(
-            &prepared.regressors,
-            &prepared.targets,
-            &prepared.scaled_innovations,
-        );
+    pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        let last = prepared.count.saturating_sub(1);
+        let forgetting = self.rls.config().forgetting;
+        for (r, (row, &y)) in prepared
+            .rows
+            .iter()
+            .zip(prepared.targets.iter())
+            .take(prepared.count)
+            .enumerate()
+        {
+            let xi: [T; N] = regressor_of(&prepared.strengths, row);
+            // Row 0's innovation was computed by `prepare` with this very θ; later rows see θ
+            // after the earlier rows of this sample.
+            let e = if r == 0 {
+                prepared.first
+            } else {
+                y - self.rls.dot(&xi)
+            };
+            // λ once per sample: the earlier rows are plain measurement updates.
+            let lambda = if r == last { forgetting } else { T::one() };
+            self.rls.update_row(&xi, e, lambda);
+        }
     }
 
     /// Back to θ = 0, P = αI.
@@ -292,11 +435,91 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
 }
 
 /// A checked update of M outputs, ready to [`TsRls::apply`].
+///
+/// It holds the measurement rows the estimator will learn from, as consequent terms over the
+/// firing strengths: one per output, except that outputs whose regressors are parallel (their
+/// consequent terms have the same single non-zero term, as Eq. 27's `v_x` and `v_z`, both
+/// `α1 (R e2) u_col`) are combined into one row with the same information, `φ = ‖d‖ g` and
+/// `ỹ = Σ d_m ỹ_m / ‖d‖`. That is one rank-one update instead of several; in exact arithmetic
+/// the estimate is the same. An output whose terms are all zero carries no information and
+/// has no row (unless all are zero).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Prepared<T, const N: usize, const M: usize> {
-    regressors: [[T; N]; M],
+pub struct Prepared<T, const R: usize, const D: usize, const M: usize> {
+    strengths: [T; R],
+    rows: [[T; D]; M],
     targets: [T; M],
-    scaled_innovations: [T; M],
-    /// Prior innovations `y_m − ŷ_m(k)` in physical units.
+    count: usize,
+    first: T,
+    /// Prior innovations `y_m − ŷ_m(k)` in physical units, one per output.
     pub innovations: [T; M],
+}
+
+/// Outputs being combined into one row (see [`Prepared`]).
+#[derive(Copy, Clone, Default)]
+struct Group<T> {
+    /// The single non-zero consequent term, if there is exactly one.
+    slot: Option<usize>,
+    /// `Σ d_m²` of the members.
+    sum_sq: T,
+    /// `Σ d_m ỹ_m` of the members.
+    weighted_target: T,
+    members: u8,
+}
+
+/// The non-zero consequent terms of an output.
+#[derive(Copy, Clone)]
+enum Term<T> {
+    /// All zero.
+    Zero,
+    /// Only term `slot` is non-zero, with a value whose square is a normal number (so that
+    /// `‖d‖` neither underflows nor overflows).
+    Single(usize, T),
+    /// Several, or one too small or too large to combine.
+    Several,
+}
+
+fn single_term<T: Real, const D: usize>(terms: &[T; D]) -> Term<T> {
+    let mut found = Term::Zero;
+    for (s, &d) in terms.iter().enumerate() {
+        if d != T::zero() {
+            if !matches!(found, Term::Zero) {
+                return Term::Several;
+            }
+            let sq = d * d;
+            found = if sq.is_finite() && sq >= T::MIN_POSITIVE {
+                Term::Single(s, d)
+            } else {
+                Term::Several
+            };
+        }
+    }
+    found
+}
+
+/// `Σ_s Δ̃_s b_s` over the non-zero terms: an output's prediction from [`TsRls`]'s block
+/// products.
+#[inline]
+fn combine<T: Real, const D: usize>(terms: &[T; D], b: &[T; D]) -> T {
+    let mut sum = T::zero();
+    for (&d, &bs) in terms.iter().zip(b.iter()) {
+        if d != T::zero() {
+            sum += d * bs;
+        }
+    }
+    sum
+}
+
+/// `ξ = Δ̃ ⊗ ξ_rules` in the paper's order (term-major blocks of R).
+#[inline]
+fn regressor_of<T: Real, const R: usize, const D: usize, const N: usize>(
+    strengths: &[T; R],
+    scaled_terms: &[T; D],
+) -> [T; N] {
+    let mut xi = [T::zero(); N];
+    for (block, &d) in xi.chunks_exact_mut(R).zip(scaled_terms.iter()) {
+        for (x, &w) in block.iter_mut().zip(strengths.iter()) {
+            *x = d * w;
+        }
+    }
+    xi
 }

@@ -333,7 +333,12 @@ impl Onboard {
         } else {
             BootOptions::default()
         };
-        let link = FirmwareLink::boot_with(&opts)?;
+        Self::boot_with(form, &opts)
+    }
+
+    /// [`boot`](Self::boot) with any QEMU options (e.g. an execution trace).
+    pub fn boot_with(form: RlsForm, opts: &BootOptions) -> Result<Self, OnboardError> {
+        let link = FirmwareLink::boot_with(opts)?;
         let mut me = Self {
             link,
             mirror: Mirror::new(RlsForm::UdDefault).map_err(OnboardError::Core)?,

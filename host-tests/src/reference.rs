@@ -364,8 +364,14 @@ impl Rls {
     ///
     /// Order of computation as in the paper: `P(k) → Kw(k+1) → P(k+1) → θ̂(k+1)`.
     // Index loops on purpose: they read like the matrix formulas they implement.
-    #[allow(clippy::needless_range_loop)]
     pub fn update(&mut self, xi: &[f64], y: f64) -> f64 {
+        self.update_with_forgetting(xi, y, self.lambda)
+    }
+
+    /// [`Rls::update`] with forgetting factor `lambda` for this step only. A sample with
+    /// several outputs forgets once: `λ = 1` for all but its last measurement.
+    #[allow(clippy::needless_range_loop)]
+    pub fn update_with_forgetting(&mut self, xi: &[f64], y: f64, lambda: f64) -> f64 {
         let n = self.n;
         assert_eq!(xi.len(), n, "regressor length");
         let innovation = y - self.predict(xi);
@@ -380,14 +386,14 @@ impl Rls {
             }
         }
         // ξᵀ P ξ + λ.
-        let denom: f64 = self.lambda + xi.iter().zip(&p_xi).map(|(a, b)| a * b).sum::<f64>();
+        let denom: f64 = lambda + xi.iter().zip(&p_xi).map(|(a, b)| a * b).sum::<f64>();
         let k: Vec<f64> = p_xi.iter().map(|v| v / denom).collect();
 
         // P ← [I − K ξᵀ] P / λ = (P − K (ξᵀ P)) / λ.
         for i in 0..n {
             for j in 0..n {
                 let v = self.p[i * n + j] - k[i] * xi_p[j];
-                self.p[i * n + j] = v / self.lambda;
+                self.p[i * n + j] = v / lambda;
             }
         }
         // θ̂ ← θ̂ + K e.
@@ -684,8 +690,11 @@ impl ReferenceModel {
             .zip(&targets)
             .map(|(xi, y)| y - self.rls.predict(xi))
             .collect();
-        for (xi, y) in regs.iter().zip(&targets) {
-            self.rls.update(xi, *y);
+        // One forgetting per sample, after its last output (as the core does).
+        let last = regs.len().saturating_sub(1);
+        for (m, (xi, y)) in regs.iter().zip(&targets).enumerate() {
+            let lambda = if m == last { self.rls.lambda() } else { 1.0 };
+            self.rls.update_with_forgetting(xi, *y, lambda);
         }
         innovations
     }

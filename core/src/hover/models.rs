@@ -295,7 +295,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> StateModel<T>
     for VelocityModel<T, R, D, N, NP>
 {
-    type Prepared = Prepared<T, N, 3>;
+    type Prepared = Prepared<T, R, D, 3>;
     type State = RlsState<T, N, NP>;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
@@ -548,7 +548,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> StateModel<T>
     for RateModel<T, R, D, N, NP>
 {
-    type Prepared = Prepared<T, N, 1>;
+    type Prepared = Prepared<T, R, D, 1>;
     type State = RlsState<T, N, NP>;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
