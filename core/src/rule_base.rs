@@ -189,8 +189,8 @@ fn expand<T: Real>(
             let Some(&prefix) = out.get(i) else {
                 continue;
             };
-            for (s, &d) in degrees.iter().take(k).enumerate().rev() {
-                if let Some(o) = out.get_mut(i * k + s) {
+            if let Some(block) = out.get_mut(i * k..(i + 1) * k) {
+                for (o, &d) in block.iter_mut().zip(degrees.iter()) {
                     *o = combine(prefix, d);
                 }
             }
