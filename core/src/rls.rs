@@ -170,32 +170,6 @@ fn column_mut<T>(packed: &mut [T], j: usize) -> Option<(&mut T, &mut [T])> {
     packed.get_mut(start..=start + j)?.split_last_mut()
 }
 
-/// The columns of a packed upper triangle in order, as [`column`] gives them.
-#[inline(always)]
-fn columns<T>(packed: &[T]) -> impl Iterator<Item = (&T, &[T])> {
-    let mut rest = packed;
-    let mut len = 1;
-    core::iter::from_fn(move || {
-        let (col, tail) = rest.split_at_checked(len)?;
-        rest = tail;
-        len += 1;
-        col.split_last()
-    })
-}
-
-/// [`columns`], mutable.
-#[inline(always)]
-fn columns_mut<T>(packed: &mut [T]) -> impl Iterator<Item = (&mut T, &mut [T])> {
-    let mut rest = packed;
-    let mut len = 1;
-    core::iter::from_fn(move || {
-        let (col, tail) = core::mem::take(&mut rest).split_at_mut_checked(len)?;
-        rest = tail;
-        len += 1;
-        col.split_last_mut()
-    })
-}
-
 /// Start of column j of the packed upper triangle.
 #[inline(always)]
 const fn col(j: usize) -> usize {
@@ -535,15 +509,14 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     pub(crate) fn update_row(&mut self, xi: &[T; N], e: T, lambda: T) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
-        // The non-zero ξ_j (indices ascending, and values): the sums over ξ visit only these.
+        let mut s3 = [T::zero(); N];
+        // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these.
         let mut nz = [0u16; N];
-        let mut xv = [T::zero(); N];
         let mut nnz = 0;
         for (j, &x) in xi.iter().enumerate() {
             if x != T::zero() {
-                if let (Some(slot), Some(value)) = (nz.get_mut(nnz), xv.get_mut(nnz)) {
+                if let Some(slot) = nz.get_mut(nnz) {
                     *slot = j as u16;
-                    *value = x;
                     nnz += 1;
                 }
             }
@@ -554,36 +527,11 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             factor: &mut self.factor,
             counters: &mut self.counters,
         };
-        let nz = NonZero {
-            index: nz.get(..nnz).unwrap_or(&[]),
-            value: xv.get(..nnz).unwrap_or(&[]),
-        };
-        let applied = w.update(xi, &nz, e, lambda, &mut s1, &mut s2);
+        let nz = nz.get(..nnz).unwrap_or(&[]);
+        let applied = w.update(xi, nz, e, lambda, &mut s1, &mut s2, &mut s3);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
-    }
-}
-
-/// The non-zero entries of a regressor: `value[k] = ξ[index[k]]`, indices ascending.
-struct NonZero<'a, T> {
-    index: &'a [u16],
-    value: &'a [T],
-}
-
-impl<T: Real> NonZero<'_, T> {
-    /// `init + Σ a[i] ξ_i` over the first `count` non-zero entries, added in index order
-    /// (indices beyond `a` are skipped).
-    #[inline(always)]
-    fn dot_first(&self, init: T, count: usize, a: &[T]) -> T {
-        let mut s = init;
-        let index = self.index.get(..count).unwrap_or(&[]);
-        for (&i, &x) in index.iter().zip(self.value.iter()) {
-            if let Some(&u) = a.get(usize::from(i)) {
-                s += u * x;
-            }
-        }
-        s
     }
 }
 
@@ -603,16 +551,17 @@ impl<T: Real> Work<'_, T> {
     fn update(
         &mut self,
         xi: &[T],
-        nz: &NonZero<'_, T>,
+        nz: &[u16],
         e: T,
         lambda: T,
         s1: &mut [T],
         s2: &mut [T],
+        s3: &mut [T],
     ) -> bool {
         match self.config.algorithm {
             Algorithm::Covariance => self.covariance_update(xi, nz, e, lambda, s1, s2),
             Algorithm::UdFactor => {
-                self.ud_update(xi, nz, e, lambda, s1, s2);
+                self.ud_update(xi, nz, e, lambda, s1, s2, s3);
                 true
             }
         }
@@ -623,7 +572,7 @@ impl<T: Real> Work<'_, T> {
     fn covariance_update(
         &mut self,
         xi: &[T],
-        nz: &NonZero<'_, T>,
+        nz: &[u16],
         e: T,
         lambda: T,
         g: &mut [T],
@@ -634,20 +583,29 @@ impl<T: Real> Work<'_, T> {
         // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
         // j from +0, as P ξ written out. Zero ξ_j are skipped: `nz` lists the others, and a
         // skipped term would only add ±0 to a sum from +0, which changes nothing.
-        // `below` counts the non-zero ξ_i with i < j.
-        let mut below = 0;
-        for (j, (&xj, (&pjj, above))) in xi.iter().zip(columns(self.factor)).enumerate() {
-            let s = if xj == T::zero() {
-                nz.dot_first(T::zero(), below, above)
+        for (j, &xj) in xi.iter().enumerate() {
+            let Some((&pjj, above)) = column(self.factor, j) else {
+                continue;
+            };
+            let mut s = T::zero();
+            if xj == T::zero() {
+                for &i in nz {
+                    let i = usize::from(i);
+                    if i >= j {
+                        break;
+                    }
+                    let (Some(&p), Some(&x)) = (above.get(i), xi.get(i)) else {
+                        break;
+                    };
+                    s += p * x;
+                }
             } else {
-                let mut s = T::zero();
                 for ((gi, &p), &x) in g.iter_mut().zip(above).zip(xi) {
                     *gi += p * xj;
                     s += p * x;
                 }
-                below += 1;
-                s + pjj * xj
-            };
+                s += pjj * xj;
+            }
             if let Some(gj) = g.get_mut(j) {
                 *gj = s;
             }
@@ -718,21 +676,33 @@ impl<T: Real> Work<'_, T> {
     fn ud_update(
         &mut self,
         xi: &[T],
-        nz: &NonZero<'_, T>,
+        nz: &[u16],
         e: T,
         lambda: T,
         f: &mut [T],
+        v: &mut [T],
         b: &mut [T],
     ) {
-        // f = Uᵀ ξ (U unit upper triangular). The sums visit the non-zero ξ_i only (`nz`): a
-        // zero term would add ±0, which changes no non-zero sum and at most the sign of a zero
-        // f_j (whose column is skipped either way). `below` counts the non-zero ξ_i with i < j.
-        let mut below = 0;
-        for ((fj, &xj), (_, above)) in f.iter_mut().zip(xi.iter()).zip(columns(self.factor)) {
-            *fj = nz.dot_first(xj, below, above);
-            if xj != T::zero() {
-                below += 1;
+        // f = Uᵀ ξ (U unit upper triangular); v = D f. The sums visit the non-zero ξ_i only
+        // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
+        // most the sign of a zero f_j (whose column is skipped either way).
+        for (j, ((fj, vj), &xj)) in f.iter_mut().zip(v.iter_mut()).zip(xi.iter()).enumerate() {
+            let Some((&dj, above)) = column(self.factor, j) else {
+                continue;
+            };
+            let mut s = xj;
+            for &i in nz {
+                let i = usize::from(i);
+                if i >= j {
+                    break;
+                }
+                let (Some(&u), Some(&x)) = (above.get(i), xi.get(i)) else {
+                    break;
+                };
+                s += u * x;
             }
+            *fj = s;
+            *vj = dj * s;
         }
         // b accumulates the unnormalised gain U D f = P ξ.
         let mut alpha = lambda;
@@ -742,17 +712,19 @@ impl<T: Real> Work<'_, T> {
         } else {
             T::one() / lambda
         };
-        for (j, (&fj, (dj, above))) in f.iter().zip(columns_mut(self.factor)).enumerate() {
+        for (j, (&fj, &vj)) in f.iter().zip(v.iter()).enumerate() {
             if fj == T::zero() {
-                continue; // v_j = D_j f_j = 0: column j and D_j unchanged, b unchanged
+                continue; // v_j = 0: column j and D_j unchanged, b unchanged
             }
-            let vj = *dj * fj;
             let alpha_prev = alpha;
             let inv_prev = inv_alpha;
             alpha = alpha_prev + fj * vj;
             // One division per column: 1/α_j serves this column's D update and the next p.
             inv_alpha = T::one() / alpha;
             let p = -fj * inv_prev;
+            let Some((dj, above)) = column_mut(self.factor, j) else {
+                continue;
+            };
             *dj *= alpha_prev * inv_alpha;
             for (u, bi) in above.iter_mut().zip(b.iter_mut()) {
                 let u_old = *u;

@@ -678,7 +678,10 @@ impl ReferenceModel {
 
     /// Update with the pair `(k, k+1)`: regressors from `s_k`, targets `y(k+1) − y(k)`. For the
     /// velocity model the three outputs share `θ` and are processed as three sequential scalar
-    /// RLS updates in the order `x, y, z`, each with its own regressor.
+    /// RLS updates in the order `x, y, z`, each with its own regressor, straight from Eq. 27
+    /// (the core combines the parallel `x` and `z` rows into one; the results agree to
+    /// rounding, `tests/reference_agreement.rs`). With `λ < 1` the sample forgets once, after
+    /// its last update.
     ///
     /// Returns the a-priori innovations `target_j − ξ_jᵀ θ̂`, all computed with `θ̂` from before
     /// the first of the updates.

@@ -110,8 +110,9 @@ fn main() {
     let _ = writeln!(
         md,
         "\nA ratio above 1× means rotorid is faster by that factor.\n\n## One full `HoverIdentifier` step\n\n\
-         All four models learn from the previous sample and predict the next (the translational model makes three \
-         scalar updates of 54 parameters; the angular ones one of 36, 18 and 18), over the golden input stream.\n"
+         All four models learn from the previous sample and predict the next (the translational model's three \
+         outputs make two scalar updates of 54 parameters, `v_x` and `v_z` being learnt as one row; the angular ones one \
+         of 36, 18 and 18), over the golden input stream.\n"
     );
     let _ = writeln!(md, "| identifier | time per step |\n|---|---|");
     for (row, label) in [

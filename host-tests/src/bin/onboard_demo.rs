@@ -157,6 +157,7 @@ fn cost() -> Result<(), String> {
     let mut rows = Vec::new();
     let mut mem = None;
     let mut calib = Vec::new();
+    let mut startup = None;
     for (name, form) in [
         ("U-D (f32 default)", RlsForm::UdDefault),
         ("paper covariance form", RlsForm::PaperCovariance),
@@ -181,6 +182,16 @@ fn cost() -> Result<(), String> {
             let mean = t.iter().sum::<u64>() as f64 / t.len() as f64;
             (mean, t.iter().copied().max().unwrap_or(0))
         };
+        if startup.is_none() {
+            // "stack used by start-up (identifier construction): N B", decoded by defmt-print.
+            let log = ob.link.log();
+            startup = log.lines().find_map(|l| {
+                let rest = l
+                    .split("stack used by start-up (identifier construction): ")
+                    .nth(1)?;
+                rest.split_whitespace().next()?.parse::<u32>().ok()
+            });
+        }
         rows.push((format!("fuzzy, {name}"), stat(|e| e.fuzzy.ticks)));
         rows.push((format!("plain, {name}"), stat(|e| e.plain.ticks)));
         mem = Some(ob.memory().map_err(|e| format!("{e}"))?);
@@ -207,6 +218,16 @@ fn cost() -> Result<(), String> {
             m.static_ram + m.stack_peak,
             m.ram_size
         );
+        match startup {
+            Some(s) => println!(
+                "Start-up (both identifiers built in place in their static; firmware log): stack {s} B, static + start-up = {} B of the {} B budget.",
+                m.static_ram + s,
+                m.ram_size
+            ),
+            None => println!(
+                "Start-up stack: not decoded (install `defmt-print` to read it from the firmware log)."
+            ),
+        }
     }
     Ok(())
 }
