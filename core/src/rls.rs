@@ -378,19 +378,8 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         regressors: &[[T; N]; M],
         targets: &[T; M],
     ) -> Result<[T; M], Error> {
-        let mut innovations = [T::zero(); M];
-        self.check_rows(regressors, targets, &mut innovations)?;
-        Ok(innovations)
-    }
-
-    /// [`check`](Self::check) over as many rows as `innovations` has (errors name the row).
-    fn check_rows(
-        &self,
-        regressors: &[[T; N]],
-        targets: &[T],
-        innovations: &mut [T],
-    ) -> Result<(), Error> {
         let limit = T::lit(TARGET_LIMIT);
+        let mut innovations = [T::zero(); M];
         for (m, ((xi, &y), e)) in regressors
             .iter()
             .zip(targets.iter())
@@ -409,16 +398,15 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 return Err(Error::OutOfRange(Quantity::Target(m as u8)));
             }
         }
-        Ok(())
+        Ok(innovations)
     }
 
     /// The update of [`update_many`](Self::update_many) for rows that passed
-    /// [`check_rows`](Self::check_rows), `first` being the prior innovation it returned for
-    /// row 0. Infallible: within those limits no intermediate can overflow.
+    /// [`check`](Self::check), `first` being the prior innovation it returned for row 0. Infallible: within those limits no intermediate can overflow.
     fn apply(&mut self, regressors: &[[T; N]], targets: &[T], first: T) {
         let last = regressors.len().saturating_sub(1);
         for (m, (xi, &y)) in regressors.iter().zip(targets.iter()).enumerate() {
-            // Row 0's innovation was computed by `check_rows` with this very θ (the same dot
+            // Row 0's innovation was computed by `check` with this very θ (the same dot
             // product, the same bits); later rows see θ after the earlier rows of this sample
             // and are recomputed.
             let e = if m == 0 {

@@ -297,10 +297,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             match term {
                 // Δ̃_m = 0: a zero regressor carries no information and gets no row.
                 Term::Zero => continue,
-                Term::Single(slot, d) => {
+                Term::Single(slot, d, sq) => {
                     let mut same = groups.iter_mut().take(count);
                     if let Some(g) = same.find(|g| g.slot == Some(slot)) {
-                        g.sum_sq += d * d;
+                        g.sum_sq += sq;
                         g.weighted_target += d * y;
                         g.members += 1;
                         continue;
@@ -317,10 +317,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             };
             *row = *st;
             *t = y;
-            if let Term::Single(slot, d) = term {
+            if let Term::Single(slot, d, sq) = term {
                 *g = Group {
                     slot: Some(slot),
-                    sum_sq: d * d,
+                    sum_sq: sq,
                     weighted_target: d * y,
                     members: 1,
                 };
@@ -471,9 +471,9 @@ struct Group<T> {
 enum Term<T> {
     /// All zero.
     Zero,
-    /// Only term `slot` is non-zero, with a value whose square is a normal number (so that
-    /// `‖d‖` neither underflows nor overflows).
-    Single(usize, T),
+    /// Only term `slot` is non-zero: its value d and d², a normal number (so that `‖d‖`
+    /// neither underflows nor overflows).
+    Single(usize, T, T),
     /// Several, or one too small or too large to combine.
     Several,
 }
@@ -487,7 +487,7 @@ fn single_term<T: Real, const D: usize>(terms: &[T; D]) -> Term<T> {
             }
             let sq = d * d;
             found = if sq.is_finite() && sq >= T::MIN_POSITIVE {
-                Term::Single(s, d)
+                Term::Single(s, d, sq)
             } else {
                 Term::Several
             };
