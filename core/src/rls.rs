@@ -29,6 +29,8 @@
 //! Every update checks its inputs completely before it writes anything: on `Err` the
 //! estimator is unchanged, bit for bit.
 
+use core::ops::Range;
+
 use crate::error::{ConfigError, Error, Quantity};
 use crate::scalar::{within, Real};
 
@@ -172,7 +174,7 @@ fn column_mut<T>(packed: &mut [T], j: usize) -> Option<(&mut T, &mut [T])> {
 
 /// Start of column j of the packed upper triangle.
 #[inline(always)]
-const fn col(j: usize) -> usize {
+pub(crate) const fn col(j: usize) -> usize {
     j * (j + 1) / 2
 }
 
@@ -349,7 +351,8 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// One scalar update with regressor ξ and target y. Returns the prior innovation
     /// `y − ξᵀθ(k)`. On `Err` nothing changed.
     pub fn update(&mut self, regressor: &[T; N], target: T) -> Result<T, Error> {
-        let [e] = self.update_many(&[*regressor], &[target])?;
+        let [e] = self.check(core::array::from_ref(regressor), &[target])?;
+        self.update_row(regressor, Everything(N), e, self.config.forgetting);
         Ok(e)
     }
 
@@ -387,11 +390,13 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             .enumerate()
         {
             check_regressor(xi)?;
-            if !y.is_finite() {
-                return Err(Error::NonFinite(Quantity::Target(m as u8)));
-            }
-            if y.abs() > limit {
-                return Err(Error::OutOfRange(Quantity::Target(m as u8)));
+            if !within(y, limit) {
+                let at = Quantity::Target(m as u8);
+                return Err(if y.is_finite() {
+                    Error::OutOfRange(at)
+                } else {
+                    Error::NonFinite(at)
+                });
             }
             *e = y - dot(xi, &self.theta);
             if !within(*e, limit) {
@@ -420,7 +425,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             } else {
                 T::one()
             };
-            self.update_row(xi, e, lambda);
+            self.update_row(xi, Everything(N), e, lambda);
         }
     }
 
@@ -491,21 +496,32 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
 
     /// One scalar update whose inputs passed the checks of `update_many`.
     ///
+    /// `support` lists, ascending and disjoint, the parameters outside of which every
+    /// regressor entry and every off-diagonal entry of P (or U) is zero; [`Everything`] when
+    /// nothing is known. Outside the support an update changes nothing (every term it would
+    /// add there is an exact zero), so the loops visit the support only, with the same bits.
+    ///
     /// The work is done by `Work::update`, generic over the scalar only: one copy of the
     /// update code serves every size N (a firmware with several models would otherwise carry
     /// one per size).
-    pub(crate) fn update_row(&mut self, xi: &[T; N], e: T, lambda: T) {
+    pub(crate) fn update_row<S: Support>(&mut self, xi: &[T; N], support: S, e: T, lambda: T) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
         // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these.
         let mut nz = [0u16; N];
         let mut nnz = 0;
-        for (j, &x) in xi.iter().enumerate() {
-            if x != T::zero() {
-                if let Some(slot) = nz.get_mut(nnz) {
-                    *slot = j as u16;
-                    nnz += 1;
+        for run in support.runs().filter(|_| !support.dense_sums()) {
+            let Some(xs) = xi.get(run.clone()) else {
+                continue;
+            };
+            for (j, &x) in run.zip(xs) {
+                if x != T::zero() {
+                    if let Some(slot) = nz.get_mut(nnz) {
+                        // N ≤ 512 (`SIZES_OK`): the index fits.
+                        *slot = j as u16;
+                        nnz += 1;
+                    }
                 }
             }
         }
@@ -516,15 +532,115 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             counters: &mut self.counters,
         };
         let nz = nz.get(..nnz).unwrap_or(&[]);
-        let applied = w.update(xi, nz, e, lambda, &mut s1, &mut s2, &mut s3);
+        let applied = support.update(&mut w, xi, nz, e, lambda, [&mut s1, &mut s2, &mut s3]);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
     }
 }
 
+/// A run `start..end` of consecutive parameter indices (see `Rls::update_row`'s support).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Run {
+    pub(crate) start: u16,
+    pub(crate) end: u16,
+}
+
+/// The parameters an update may change, as ascending disjoint runs of indices.
+///
+/// A trait rather than a slice so that the dense case ([`Everything`], what a bare [`Rls`]
+/// knows) compiles to plain loops over `0..N`, as fast as if runs did not exist.
+pub(crate) trait Support: Copy {
+    /// Whether the sums over ξ run over every entry rather than over a list of the non-zero
+    /// ones (the same bits: a zero ξ_i adds ±0). Worth it only for a few parameters.
+    fn dense_sums(self) -> bool;
+
+    fn runs(self) -> impl Iterator<Item = Range<usize>>;
+
+    /// `Work::update` over this support (scratch `s` of length N).
+    fn update<T: Real>(
+        self,
+        w: &mut Work<'_, T>,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        lambda: T,
+        s: [&mut [T]; 3],
+    ) -> bool;
+}
+
+/// All N parameters.
+#[derive(Copy, Clone)]
+pub(crate) struct Everything(pub(crate) usize);
+
+/// Up to this many parameters, a bare [`Rls`] sums over every ξ entry: the list of the
+/// non-zero entries costs more than it saves (about 8 % at N = 2 on x86_64).
+const DENSE_SUMS_UP_TO: usize = 4;
+
+impl Support for Everything {
+    #[inline(always)]
+    fn dense_sums(self) -> bool {
+        self.0 <= DENSE_SUMS_UP_TO
+    }
+
+    #[inline(always)]
+    fn runs(self) -> impl Iterator<Item = Range<usize>> {
+        core::iter::once(0..self.0)
+    }
+
+    /// Inlined into the estimator of each size: the loops are over constant lengths, which
+    /// the compiler unrolls for small N.
+    #[inline(always)]
+    fn update<T: Real>(
+        self,
+        w: &mut Work<'_, T>,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        lambda: T,
+        s: [&mut [T]; 3],
+    ) -> bool {
+        let [s1, s2, s3] = s;
+        w.update(xi, nz, self, e, lambda, s1, s2, s3)
+    }
+}
+
+impl Support for &[Run] {
+    #[inline(always)]
+    fn dense_sums(self) -> bool {
+        false
+    }
+
+    #[inline(always)]
+    fn runs(self) -> impl Iterator<Item = Range<usize>> {
+        self.iter()
+            .map(|r| usize::from(r.start)..usize::from(r.end))
+    }
+
+    /// The shared routine: one copy for every model.
+    #[inline(always)]
+    fn update<T: Real>(
+        self,
+        w: &mut Work<'_, T>,
+        xi: &[T],
+        nz: &[u16],
+        e: T,
+        lambda: T,
+        s: [&mut [T]; 3],
+    ) -> bool {
+        let [s1, s2, s3] = s;
+        w.update_shared(xi, nz, self, e, lambda, s1, s2, s3)
+    }
+}
+
+/// The part of `run` below `j`.
+#[inline(always)]
+fn below(run: Range<usize>, j: usize) -> Range<usize> {
+    run.start..run.end.min(j)
+}
+
 /// An estimator's storage as slices (`theta.len() = N`, `factor.len() = N(N+1)/2`).
-struct Work<'a, T> {
+pub(crate) struct Work<'a, T> {
     config: &'a RlsConfig<T>,
     theta: &'a mut [T],
     factor: &'a mut [T],
@@ -532,14 +648,33 @@ struct Work<'a, T> {
 }
 
 impl<T: Real> Work<'_, T> {
-    /// One update with prior innovation `e` and forgetting factor `lambda`; scratch slices of
-    /// length N. Returns whether it was applied.
+    /// [`update`](Self::update) over runs, as one shared routine: the copy that every model of
+    /// an identifier calls, whatever its size (a firmware carries 8 models).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn update(
+    fn update_shared(
         &mut self,
         xi: &[T],
         nz: &[u16],
+        support: &[Run],
+        e: T,
+        lambda: T,
+        s1: &mut [T],
+        s2: &mut [T],
+        s3: &mut [T],
+    ) -> bool {
+        self.update(xi, nz, support, e, lambda, s1, s2, s3)
+    }
+
+    /// One update with prior innovation `e` and forgetting factor `lambda`; scratch slices of
+    /// length N. Returns whether it was applied.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn update<S: Support>(
+        &mut self,
+        xi: &[T],
+        nz: &[u16],
+        support: S,
         e: T,
         lambda: T,
         s1: &mut [T],
@@ -547,20 +682,22 @@ impl<T: Real> Work<'_, T> {
         s3: &mut [T],
     ) -> bool {
         match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, nz, e, lambda, s1, s2),
+            Algorithm::Covariance => self.covariance_update(xi, nz, support, e, lambda, s1, s2),
             Algorithm::UdFactor => {
-                self.ud_update(xi, nz, e, lambda, s1, s2, s3);
+                self.ud_update(xi, nz, support, e, lambda, s1, s2, s3);
                 true
             }
         }
     }
 
     /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
-    /// update was applied (see [`RlsCounters::numerical_skips`]).
-    fn covariance_update(
+    /// update was applied (see [`RlsCounters::numerical_skips`]). `g`, `k`: zeroed scratch.
+    #[allow(clippy::too_many_arguments)]
+    fn covariance_update<S: Support>(
         &mut self,
         xi: &[T],
         nz: &[u16],
+        support: S,
         e: T,
         lambda: T,
         g: &mut [T],
@@ -569,39 +706,50 @@ impl<T: Real> Work<'_, T> {
         // g = P ξ, one column of the packed triangle at a time: column j holds P(i, j) for
         // i ≤ j, which gives g_i += P(i, j) ξ_j for i < j and g_j = Σ_{i ≤ j} P(i, j) ξ_i
         // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
-        // j from +0, as P ξ written out. Zero ξ_j are skipped: `nz` lists the others, and a
-        // skipped term would only add ±0 to a sum from +0, which changes nothing.
-        for (j, &xj) in xi.iter().enumerate() {
-            let Some((&pjj, above)) = column(self.factor, j) else {
-                continue;
-            };
-            let mut s = T::zero();
-            if xj == T::zero() {
-                for &i in nz {
-                    let i = usize::from(i);
-                    if i >= j {
-                        break;
+        // j from +0, as P ξ written out. Terms that are exact zeros are skipped (zero ξ_j, `nz`
+        // lists the others; P(i, j) outside the support): adding ±0 to a sum from +0 changes
+        // nothing. Outside the support g stays 0.
+        for run in support.runs() {
+            for j in run.clone() {
+                let (Some((&pjj, above)), Some(&xj)) = (column(self.factor, j), xi.get(j)) else {
+                    break;
+                };
+                let mut s = T::zero();
+                if xj == T::zero() {
+                    s = sum_below(support, s, above, xi, nz);
+                } else {
+                    for r in support.runs() {
+                        let rows = below(r, j);
+                        let (Some(gs), Some(ps), Some(xs)) = (
+                            g.get_mut(rows.clone()),
+                            above.get(rows.clone()),
+                            xi.get(rows),
+                        ) else {
+                            break;
+                        };
+                        for ((gi, &p), &x) in gs.iter_mut().zip(ps).zip(xs) {
+                            *gi += p * xj;
+                            s += p * x;
+                        }
                     }
-                    let (Some(&p), Some(&x)) = (above.get(i), xi.get(i)) else {
-                        break;
-                    };
-                    s += p * x;
+                    s += pjj * xj;
                 }
-            } else {
-                for ((gi, &p), &x) in g.iter_mut().zip(above).zip(xi) {
-                    *gi += p * xj;
-                    s += p * x;
+                if let Some(gj) = g.get_mut(j) {
+                    *gj = s;
                 }
-                s += pjj * xj;
-            }
-            if let Some(gj) = g.get_mut(j) {
-                *gj = s;
             }
         }
         let mut denom = lambda;
-        for (&x, &gj) in xi.iter().zip(g.iter()) {
-            if x != T::zero() {
-                denom += x * gj;
+        if support.dense_sums() {
+            for (&x, &gi) in xi.iter().zip(g.iter()) {
+                denom += x * gi;
+            }
+        } else {
+            for &i in nz {
+                let i = usize::from(i);
+                if let (Some(&x), Some(&gi)) = (xi.get(i), g.get(i)) {
+                    denom += x * gi;
+                }
             }
         }
         // In f32 with a large α this form can lose positive definiteness (the reason the U-D
@@ -611,12 +759,21 @@ impl<T: Real> Work<'_, T> {
             self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
             return false;
         }
-        // K = g / (λ + ξᵀPξ), divided entry by entry exactly as the paper writes it.
-        for ((ki, &gi), &t) in k.iter_mut().zip(g.iter()).zip(self.theta.iter()) {
-            *ki = gi / denom;
-            if !(t + *ki * e).is_finite() {
-                self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
-                return false;
+        // K = g / (λ + ξᵀPξ), divided entry by entry exactly as the paper writes it (0
+        // outside the support, where g is 0).
+        for run in support.runs() {
+            let r = run;
+            let (Some(ks), Some(gs), Some(ts)) =
+                (k.get_mut(r.clone()), g.get(r.clone()), self.theta.get(r))
+            else {
+                break;
+            };
+            for ((ki, &gi), &t) in ks.iter_mut().zip(gs).zip(ts) {
+                *ki = gi / denom;
+                if !(t + *ki * e).is_finite() {
+                    self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
+                    return false;
+                }
             }
         }
         // Forgetting with the windup guard: trace(P⁺)/λ must stay within the bound.
@@ -632,39 +789,66 @@ impl<T: Real> Work<'_, T> {
                 self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
             }
         }
-        for (j, &gj) in g.iter().enumerate() {
-            if gj == T::zero() && scale.is_none() {
-                continue; // P_ij − K_i·0 = P_ij
-            }
-            let start = col(j);
-            let Some(column) = self.factor.get_mut(start..=start + j) else {
-                continue;
-            };
-            match scale {
-                None => {
-                    for (p, &ki) in column.iter_mut().zip(k.iter()) {
-                        *p -= ki * gj;
+        match scale {
+            // P − K gᵀ: only columns j and rows i in the support change (K and g are 0
+            // elsewhere), and only columns with g_j ≠ 0.
+            None => {
+                for run in support.runs() {
+                    for j in run.clone() {
+                        let gj = g.get(j).copied().unwrap_or_else(T::zero);
+                        if gj == T::zero() {
+                            continue; // P_ij − K_i·0 = P_ij
+                        }
+                        let start = col(j);
+                        let Some(column) = self.factor.get_mut(start..=start + j) else {
+                            break;
+                        };
+                        for r in support.runs() {
+                            let rows = below(r, j + 1);
+                            let (Some(ps), Some(ks)) = (column.get_mut(rows.clone()), k.get(rows))
+                            else {
+                                break;
+                            };
+                            for (p, &ki) in ps.iter_mut().zip(ks) {
+                                *p -= ki * gj;
+                            }
+                        }
                     }
                 }
-                Some(s) => {
+            }
+            // (P − K gᵀ)/λ scales every entry: all of P.
+            Some(s) => {
+                for (j, &gj) in g.iter().enumerate() {
+                    let start = col(j);
+                    let Some(column) = self.factor.get_mut(start..=start + j) else {
+                        continue;
+                    };
                     for (p, &ki) in column.iter_mut().zip(k.iter()) {
                         *p = (*p - ki * gj) * s;
                     }
                 }
             }
         }
-        for (t, &ki) in self.theta.iter_mut().zip(k.iter()) {
-            *t += ki * e;
+        for run in support.runs() {
+            let r = run;
+            let (Some(ts), Some(ks)) = (self.theta.get_mut(r.clone()), k.get(r)) else {
+                break;
+            };
+            for (t, &ki) in ts.iter_mut().zip(ks) {
+                *t += ki * e;
+            }
         }
         true
     }
 
     /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
+    /// `f`, `v`, `b`: zeroed scratch.
     #[allow(clippy::too_many_arguments)]
-    fn ud_update(
+    fn ud_update<S: Support>(
         &mut self,
         xi: &[T],
         nz: &[u16],
+        support: S,
         e: T,
         lambda: T,
         f: &mut [T],
@@ -673,24 +857,23 @@ impl<T: Real> Work<'_, T> {
     ) {
         // f = Uᵀ ξ (U unit upper triangular); v = D f. The sums visit the non-zero ξ_i only
         // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
-        // most the sign of a zero f_j (whose column is skipped either way).
-        for (j, ((fj, vj), &xj)) in f.iter_mut().zip(v.iter_mut()).zip(xi.iter()).enumerate() {
-            let Some((&dj, above)) = column(self.factor, j) else {
-                continue;
+        // most the sign of a zero f_j (whose column is skipped either way). Outside the
+        // support f is 0 (ξ_j = 0 and column j of U is zero above the diagonal).
+        for run in support.runs() {
+            let r = run.clone();
+            let (Some(fs), Some(vs), Some(xs)) =
+                (f.get_mut(r.clone()), v.get_mut(r.clone()), xi.get(r))
+            else {
+                break;
             };
-            let mut s = xj;
-            for &i in nz {
-                let i = usize::from(i);
-                if i >= j {
-                    break;
-                }
-                let (Some(&u), Some(&x)) = (above.get(i), xi.get(i)) else {
+            for (j, ((fj, vj), &xj)) in run.zip(fs.iter_mut().zip(vs).zip(xs)) {
+                let Some((&dj, above)) = column(self.factor, j) else {
                     break;
                 };
-                s += u * x;
+                let s = sum_below(support, xj, above, xi, nz);
+                *fj = s;
+                *vj = dj * s;
             }
-            *fj = s;
-            *vj = dj * s;
         }
         // b accumulates the unnormalised gain U D f = P ξ.
         let mut alpha = lambda;
@@ -700,33 +883,52 @@ impl<T: Real> Work<'_, T> {
         } else {
             T::one() / lambda
         };
-        for (j, (&fj, &vj)) in f.iter().zip(v.iter()).enumerate() {
-            if fj == T::zero() {
-                continue; // v_j = 0: column j and D_j unchanged, b unchanged
-            }
-            let alpha_prev = alpha;
-            let inv_prev = inv_alpha;
-            alpha = alpha_prev + fj * vj;
-            // One division per column: 1/α_j serves this column's D update and the next p.
-            inv_alpha = T::one() / alpha;
-            let p = -fj * inv_prev;
-            let Some((dj, above)) = column_mut(self.factor, j) else {
-                continue;
-            };
-            *dj *= alpha_prev * inv_alpha;
-            for (u, bi) in above.iter_mut().zip(b.iter_mut()) {
-                let u_old = *u;
-                *u = u_old + *bi * p;
-                *bi += u_old * vj;
-            }
-            if let Some(bj) = b.get_mut(j) {
-                *bj = vj;
+        for run in support.runs() {
+            for j in run.clone() {
+                let (Some(&fj), Some(&vj)) = (f.get(j), v.get(j)) else {
+                    break;
+                };
+                if fj == T::zero() {
+                    continue; // v_j = 0: column j and D_j unchanged, b unchanged
+                }
+                let alpha_prev = alpha;
+                let inv_prev = inv_alpha;
+                alpha = alpha_prev + fj * vj;
+                // One division per column: 1/α_j serves this column's D update and the next p.
+                inv_alpha = T::one() / alpha;
+                let p = -fj * inv_prev;
+                let Some((dj, above)) = column_mut(self.factor, j) else {
+                    break;
+                };
+                *dj *= alpha_prev * inv_alpha;
+                // Rows outside the support have U_ij = 0 and b_i = 0: unchanged.
+                for r in support.runs() {
+                    let rows = below(r, j);
+                    let (Some(us), Some(bs)) = (above.get_mut(rows.clone()), b.get_mut(rows))
+                    else {
+                        break;
+                    };
+                    for (u, bi) in us.iter_mut().zip(bs.iter_mut()) {
+                        let u_old = *u;
+                        *u = u_old + *bi * p;
+                        *bi += u_old * vj;
+                    }
+                }
+                if let Some(bj) = b.get_mut(j) {
+                    *bj = vj;
+                }
             }
         }
-        // K = b/α; θ += K e, with the scalar e/α formed once.
+        // K = b/α; θ += K e, with the scalar e/α formed once (b is 0 outside the support).
         let gain = e * inv_alpha;
-        for (t, &bi) in self.theta.iter_mut().zip(b.iter()) {
-            *t += bi * gain;
+        for run in support.runs() {
+            let r = run;
+            let (Some(ts), Some(bs)) = (self.theta.get_mut(r.clone()), b.get(r)) else {
+                break;
+            };
+            for (t, &bi) in ts.iter_mut().zip(bs) {
+                *t += bi * gain;
+            }
         }
         if lambda < T::one() {
             if self.ud_trace(f) / lambda <= self.config.max_trace {
@@ -767,22 +969,50 @@ impl<T: Real> Work<'_, T> {
     }
 }
 
+/// `start + Σ_{i<j} a_i ξ_i` (j = `above.len()`) in ascending i: over every i if the
+/// support says so ([`Support::dense_sums`]), else over the non-zero ξ_i only (`nz`, ascending). The same bits either way: a
+/// zero ξ_i adds ±0, which changes no non-zero sum and at most the sign of a zero one.
+#[inline(always)]
+fn sum_below<T: Real>(support: impl Support, start: T, above: &[T], xi: &[T], nz: &[u16]) -> T {
+    let mut s = start;
+    if support.dense_sums() {
+        for (&a, &x) in above.iter().zip(xi) {
+            s += a * x;
+        }
+    } else {
+        let j = above.len();
+        for &i in nz {
+            let i = usize::from(i);
+            if i >= j {
+                break;
+            }
+            let (Some(&a), Some(&x)) = (above.get(i), xi.get(i)) else {
+                break;
+            };
+            s += a * x;
+        }
+    }
+    s
+}
+
 /// Checks every regressor entry: finite and within [`REGRESSOR_LIMIT`].
 fn check_regressor<T: Real, const N: usize>(xi: &[T; N]) -> Result<(), Error> {
     let limit = T::lit(REGRESSOR_LIMIT);
     for (j, &x) in xi.iter().enumerate() {
-        if !x.is_finite() {
-            return Err(Error::NonFinite(Quantity::Regressor(j as u16)));
-        }
-        if x.abs() > limit {
-            return Err(Error::OutOfRange(Quantity::Regressor(j as u16)));
+        if !within(x, limit) {
+            let at = Quantity::Regressor(j as u16);
+            return Err(if x.is_finite() {
+                Error::OutOfRange(at)
+            } else {
+                Error::NonFinite(at)
+            });
         }
     }
     Ok(())
 }
 
-/// `ξᵀθ` in index order, skipping zero ξ_j (bit-identical to the dense sum: adding ±0 changes
-/// nothing and the sum starts from +0).
+/// `ξᵀθ` in index order from +0. (θ is always finite, so a zero ξ_j adds ±0, which leaves
+/// the sum as it is: the same bits as the sums that skip zero ξ_j.)
 #[inline]
 fn dot<T: Real, const N: usize>(xi: &[T; N], theta: &[T; N]) -> T {
     let mut s = T::zero();
@@ -792,4 +1022,49 @@ fn dot<T: Real, const N: usize>(xi: &[T; N], theta: &[T; N]) -> T {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The dense sums of a small bare estimator and the sums over the non-zero entries give
+    /// the same bits (both forms; regressors with zero entries, and with all entries zero).
+    #[test]
+    fn dense_sums_equal_sums_over_the_non_zero_entries() {
+        for algorithm in [Algorithm::UdFactor, Algorithm::Covariance] {
+            let config = RlsConfig {
+                algorithm,
+                ..RlsConfig::paper(1e4)
+            };
+            let mut dense = Rls::<f32, 4, 10>::new(config).unwrap();
+            let mut listed = dense.clone();
+            assert!(Everything(4).dense_sums());
+            let all = [Run { start: 0, end: 4 }];
+            let mut state = 0x9e37_79b9u32;
+            for k in 0..500u32 {
+                let mut xi = [0.0f32; 4];
+                for (i, x) in xi.iter_mut().enumerate() {
+                    state ^= state << 13;
+                    state ^= state >> 17;
+                    state ^= state << 5;
+                    // About half the entries zero, some of them -0.
+                    if (state >> (i * 3)) & 1 == 0 {
+                        *x = (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+                    } else if k % 3 == 0 {
+                        *x = -0.0;
+                    }
+                }
+                let e = xi[0] - 0.25 * xi[3];
+                dense.update_row(&xi, Everything(4), e, 1.0);
+                listed.update_row(&xi, &all[..], e, 1.0);
+                let bits = |r: &Rls<f32, 4, 10>| {
+                    let s = r.export();
+                    (s.theta.map(f32::to_bits), s.factor.map(f32::to_bits))
+                };
+                assert_eq!(bits(&dense), bits(&listed), "{algorithm:?} update {k}");
+            }
+            assert_eq!(dense.counters(), listed.counters());
+        }
+    }
 }

@@ -24,7 +24,7 @@
 //! once the data outweigh the prior.
 
 use crate::error::{ConfigError, Error, Quantity};
-use crate::rls::{Rls, RlsConfig, RlsState, REGRESSOR_LIMIT, TARGET_LIMIT};
+use crate::rls::{col, Rls, RlsConfig, RlsState, Run, REGRESSOR_LIMIT, TARGET_LIMIT};
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
 
@@ -72,6 +72,10 @@ pub struct TsRls<T, const V: usize, const R: usize, const D: usize, const N: usi
     rules: RuleBase<T, V, R>,
     rls: Rls<T, N, NP>,
     scaling: Scaling<T, D>,
+    /// The rules that have fired (non-zero ξ_i) since the estimator started afresh, bit i
+    /// for rule i; rules from 32 on count as fired always. Only their parameters can be
+    /// coupled in P, so the updates visit only those (see [`TsRls::apply`]).
+    fired: u32,
 }
 
 impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, const NP: usize>
@@ -117,6 +121,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             rules,
             rls: Rls::new_unchecked(config),
             scaling,
+            fired: 0,
         }
     }
 
@@ -376,7 +381,16 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
 
     /// Learns from a [`Prepared`] update made by this model's [`prepare`](Self::prepare)
     /// with the model unchanged since.
+    ///
+    /// The parameters of a rule that has never fired have regressor entries 0 and rows and
+    /// columns of P (or U) that are still those of αI: an update leaves them as they are. The
+    /// estimator visits only the others, with the same bits as visiting all: a flight that
+    /// excites 3 of the 27 translational rules pays for 6 parameters, not 54.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        self.fired |= fired_mask(&prepared.strengths);
+        let mut support = [Run { start: 0, end: 0 }; N];
+        let runs = self.support(&mut support);
+        let support = support.get(..runs).unwrap_or(&[]);
         let last = prepared.count.saturating_sub(1);
         let forgetting = self.rls.config().forgetting;
         for (r, (row, &y)) in prepared
@@ -396,13 +410,45 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             };
             // λ once per sample: the earlier rows are plain measurement updates.
             let lambda = if r == last { forgetting } else { T::one() };
-            self.rls.update_row(&xi, e, lambda);
+            self.rls.update_row(&xi, support, e, lambda);
         }
+    }
+
+    /// The parameters of the fired rules as ascending runs (merged where they touch);
+    /// returns how many.
+    fn support(&self, runs: &mut [Run; N]) -> usize {
+        fired_runs(self.fired, R, D, runs)
+    }
+
+    /// The rules whose parameters are coupled in an imported factor (an off-diagonal entry
+    /// in one of their rows or columns is non-zero): those the imported flight fired.
+    fn coupled_rules(state: &RlsState<T, N, NP>) -> u32 {
+        let mut fired = 0u32;
+        let mut mark = |p: usize| {
+            let rule = p % R;
+            if rule < 32 {
+                fired |= 1 << rule;
+            }
+        };
+        for j in 1..N {
+            let start = col(j);
+            let Some(above) = state.factor.get(start..start + j) else {
+                break;
+            };
+            for (i, &u) in above.iter().enumerate() {
+                if u != T::zero() {
+                    mark(i);
+                    mark(j);
+                }
+            }
+        }
+        fired
     }
 
     /// Back to θ = 0, P = αI.
     pub fn reset(&mut self) {
         self.rls.reset();
+        self.fired = 0;
     }
 
     /// Exports θ̃ and the covariance factor (scaled coordinates).
@@ -413,7 +459,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     /// Imports θ̃ and the covariance factor (warm start; same scaling expected). On `Err`
     /// nothing changed.
     pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
-        self.rls.import(state)
+        self.rls.import(state)?;
+        self.fired = Self::coupled_rules(state);
+        Ok(())
     }
 
     /// The checks of [`import`](Self::import), without importing.
@@ -429,9 +477,73 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     ) -> Result<(), Error> {
         config.validate()?;
         scaling.validate()?;
+        self.rls.reconfigure(config)?;
         self.scaling = scaling;
-        self.rls.reconfigure(config)
+        self.fired = 0;
+        Ok(())
     }
+}
+
+/// The parameters of the rules in `fired` (bit i: rule i; rules from 32 on always count) as
+/// ascending runs, merged where they touch, for `rules` rules of `terms` consequent terms
+/// each (parameter `s·rules + i` is term s of rule i). Returns how many runs it wrote.
+///
+/// Not generic: one copy serves every rule base of a firmware.
+#[inline(never)]
+fn fired_runs(fired: u32, rules: usize, terms: usize, runs: &mut [Run]) -> usize {
+    // The fired rules as runs `first..end`, from the mask. At most 16 runs start below 32,
+    // plus the one from 32 on.
+    let mut rule_runs = [(0u16, 0u16); 17];
+    let mut n = 0;
+    let in_base = if rules >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << rules) - 1
+    };
+    let mut mask = (u64::from(fired) | !u64::from(u32::MAX)) & in_base;
+    while mask != 0 {
+        let first = mask.trailing_zeros();
+        let end = first + (mask >> first).trailing_ones();
+        if let Some(r) = rule_runs.get_mut(n) {
+            // A run reaching bit 63 goes on to the last rule (`rules` ≤ 512, checked by Rls).
+            let end = if end >= 64 { rules } else { end as usize };
+            *r = (first as u16, end as u16);
+            n += 1;
+        }
+        if end >= 64 {
+            break;
+        }
+        mask &= !((1u64 << end) - 1);
+    }
+    // The same runs in every term's block of `rules` parameters.
+    let mut count: usize = 0;
+    for slot in 0..terms {
+        let base = (slot * rules) as u16;
+        for &(first, end) in rule_runs.get(..n).unwrap_or(&[]) {
+            let (start, end) = (base + first, base + end);
+            match count.checked_sub(1).and_then(|k| runs.get_mut(k)) {
+                Some(prev) if prev.end == start => prev.end = end,
+                _ => {
+                    if let Some(run) = runs.get_mut(count) {
+                        *run = Run { start, end };
+                        count += 1;
+                    }
+                }
+            }
+        }
+    }
+    count
+}
+
+/// Bit i set for every non-zero ξ_i, i < 32.
+fn fired_mask<T: Real>(strengths: &[T]) -> u32 {
+    let mut mask = 0;
+    for (i, &w) in strengths.iter().enumerate().take(32) {
+        if w != T::zero() {
+            mask |= 1 << i;
+        }
+    }
+    mask
 }
 
 /// A checked update of M outputs, ready to [`TsRls::apply`].
@@ -522,4 +634,152 @@ fn regressor_of<T: Real, const R: usize, const D: usize, const N: usize>(
         }
     }
     xi
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::hover::table3::sets;
+    use crate::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
+    use crate::rls::{Algorithm, Everything, Run};
+
+    /// 36 rules (4 premise variables of 3, 3, 2 and 2 sets), so that rules from 32 on are
+    /// covered; narrow shoulders, so that most rules fire only now and then.
+    type Model = TsRls<f32, 4, 36, 2, 72, 2628>;
+
+    fn model(config: RlsConfig<f32>) -> Model {
+        let three = || {
+            sets(&[
+                LeftShoulder {
+                    centre: -1.0,
+                    spread: 0.02,
+                },
+                Gaussian {
+                    centre: 0.0,
+                    spread: 0.3,
+                },
+                RightShoulder {
+                    centre: 1.0,
+                    spread: 0.02,
+                },
+            ])
+        };
+        let two = || {
+            sets(&[
+                LeftShoulder {
+                    centre: -0.5,
+                    spread: 0.05,
+                },
+                RightShoulder {
+                    centre: 0.5,
+                    spread: 0.05,
+                },
+            ])
+        };
+        let rules = RuleBase::new([three(), three(), two(), two()]).unwrap();
+        TsRls::new(rules, config).unwrap()
+    }
+
+    /// θ then the packed factor, as bits.
+    fn bits(state: &RlsState<f32, 72, 2628>) -> Vec<u32> {
+        state
+            .theta
+            .iter()
+            .chain(state.factor.iter())
+            .map(|x| x.to_bits())
+            .collect()
+    }
+
+    /// `TsRls::apply` visits only the fired rules' parameters; an estimator updated over all
+    /// of them with the same rows and innovations ends with the same bits (both RLS forms,
+    /// with and without forgetting, and across an export and import).
+    #[test]
+    fn updates_over_the_fired_rules_equal_updates_over_all_parameters() {
+        for (algorithm, lambda) in [
+            (Algorithm::UdFactor, 1.0),
+            (Algorithm::Covariance, 1.0),
+            (Algorithm::UdFactor, 0.98),
+            (Algorithm::Covariance, 0.98),
+        ] {
+            let config = RlsConfig {
+                algorithm,
+                ..RlsConfig::paper(100.0)
+            }
+            .with_forgetting(lambda, 1e6);
+            let mut ts = model(config);
+            let mut dense = Rls::<f32, 72, 2628>::new(config).unwrap();
+            let mut state = 0x2545_f491u32;
+            let mut uniform = |lo: f32, hi: f32| {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                lo + (hi - lo) * (state >> 8) as f32 / (1u32 << 24) as f32
+            };
+            for k in 0..400 {
+                // Mostly near the centre sets; now and then out on the shoulders.
+                let wide = if k % 7 == 0 { 3.0 } else { 0.6 };
+                let premise = [0; 4].map(|_| uniform(-wide, wide));
+                let mut terms = [uniform(-2.0, 2.0), uniform(-2.0, 2.0)];
+                if k % 4 == 1 {
+                    terms[k % 2] = 0.0;
+                }
+                let target = uniform(-1.0, 1.0);
+                let prepared = ts.prepare(&premise, &[terms], &[target]).unwrap();
+                for (r, row) in prepared.rows.iter().take(prepared.count).enumerate() {
+                    let xi: [f32; 72] = regressor_of(&prepared.strengths, row);
+                    let e = if r == 0 {
+                        prepared.first
+                    } else {
+                        prepared.targets[r] - dense.dot(&xi)
+                    };
+                    let l = if r + 1 == prepared.count { lambda } else { 1.0 };
+                    dense.update_row(&xi, Everything(72), e, l);
+                }
+                ts.apply(&prepared);
+                let (a, b) = (bits(&ts.export()), bits(&dense.export()));
+                let first = a.iter().zip(&b).position(|(x, y)| x != y);
+                assert_eq!(
+                    first, None,
+                    "{algorithm:?} λ {lambda} step {k}: θ then P entry"
+                );
+                if k == 200 {
+                    // A warm start: the support comes from the imported factor's couplings.
+                    let mut fresh = model(config);
+                    fresh.import(&ts.export()).unwrap();
+                    assert_eq!(fresh.fired, ts.fired & fresh.fired);
+                    ts = fresh;
+                }
+            }
+            assert!(
+                ts.fired != 0 && ts.fired != u32::MAX,
+                "some rules fired, not all"
+            );
+        }
+    }
+
+    /// The runs of fired rules, repeated in each term's block and merged where they touch;
+    /// rules from 32 on always count.
+    #[test]
+    fn support_lists_the_fired_rules_parameters() {
+        let mut ts = model(RlsConfig::default());
+        let mut runs = [Run { start: 0, end: 0 }; 72];
+        let list = |ts: &Model, runs: &mut [Run; 72]| {
+            let n = ts.support(runs);
+            runs[..n]
+                .iter()
+                .map(|r| (r.start, r.end))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(list(&ts, &mut runs), [(32, 36), (68, 72)]);
+        ts.fired = 0b1011 | 1 << 31;
+        assert_eq!(
+            list(&ts, &mut runs),
+            [(0, 2), (3, 4), (31, 38), (39, 40), (67, 72)]
+        );
+        ts.fired = u32::MAX;
+        assert_eq!(list(&ts, &mut runs), [(0, 72)]);
+    }
 }

@@ -133,7 +133,9 @@ pub struct HoverIdentifier<T, V, Q, R, P> {
     pitch: Q,
     yaw: R,
     roll: P,
-    config: HoverConfig<T>,
+    /// The settings that are not the models' own (the RLS settings are: see
+    /// [`HoverIdentifier::config`]).
+    timing: Timing,
     /// The sample the next step learns from, with its body frame.
     previous: Option<(HoverSample<T>, BodyFrame<T>)>,
 }
@@ -177,6 +179,25 @@ pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
     RateModel<T, 1, 5, 5, 15>,
     RateModel<T, 1, 5, 5, 15>,
 >;
+
+/// [`HoverConfig`] less the RLS settings, which each model keeps (not stored twice: the
+/// identifier's `size_of` is held to 11 KiB).
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct Timing {
+    sample_period_us: u32,
+    period_tolerance_us: u32,
+    scaling: RegressorScaling,
+}
+
+impl Timing {
+    fn of<T>(config: &HoverConfig<T>) -> Self {
+        Self {
+            sample_period_us: config.sample_period_us,
+            period_tolerance_us: config.period_tolerance_us,
+            scaling: config.scaling,
+        }
+    }
+}
 
 /// Builds the four models of an identifier from rule bases and structures.
 #[allow(clippy::type_complexity)]
@@ -232,7 +253,7 @@ fn build<
         pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, c, rs),
         yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, c, rs),
         roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, c, rs),
-        config,
+        timing: Timing::of(&config),
         previous: None,
     })
 }
@@ -309,7 +330,9 @@ where
     R: StateModel<T>,
     P: StateModel<T>,
 {
-    /// An identifier from four models (translational, q̂, r̂, p̂).
+    /// An identifier from four models (translational, q̂, r̂, p̂). `config` gives the sample
+    /// period and its tolerance; the models keep the RLS settings and scales they were built
+    /// with.
     pub fn new(
         velocity: V,
         pitch: Q,
@@ -323,14 +346,22 @@ where
             pitch,
             yaw,
             roll,
-            config,
+            timing: Timing::of(&config),
             previous: None,
         })
     }
 
-    /// The settings.
-    pub fn config(&self) -> &HoverConfig<T> {
-        &self.config
+    /// The settings: sample period, tolerance and scaling as given to the constructor or to
+    /// [`reconfigure`](Self::reconfigure), and the RLS settings of the translational model
+    /// (the four models share them, unless one was reconfigured on its own through
+    /// [`velocity_model_mut`](Self::velocity_model_mut) and the like).
+    pub fn config(&self) -> HoverConfig<T> {
+        HoverConfig {
+            rls: *self.velocity.rls_config(),
+            sample_period_us: self.timing.sample_period_us,
+            period_tolerance_us: self.timing.period_tolerance_us,
+            scaling: self.timing.scaling,
+        }
     }
 
     /// The translational model.
@@ -499,7 +530,7 @@ where
         self.pitch.reconfigure(&config)?;
         self.yaw.reconfigure(&config)?;
         self.roll.reconfigure(&config)?;
-        self.config = config;
+        self.timing = Timing::of(&config);
         self.previous = None;
         Ok(())
     }
@@ -509,8 +540,8 @@ where
             return Err(Error::NonMonotonicTime);
         }
         let dt = next.time_us - prev.time_us;
-        let nominal = u64::from(self.config.sample_period_us);
-        let tol = u64::from(self.config.period_tolerance_us);
+        let nominal = u64::from(self.timing.sample_period_us);
+        let tol = u64::from(self.timing.period_tolerance_us);
         let (min, max) = (nominal - tol, nominal + tol);
         if dt < min || dt > max {
             return Err(Error::TimeStep {

@@ -35,6 +35,8 @@ pub trait StateModel<T: Real> {
     fn check_import(&self, state: &Self::State) -> Result<(), Error>;
     /// New estimator settings (and the scales they imply), in place, starting afresh.
     fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
+    /// The estimator settings.
+    fn rls_config(&self) -> &RlsConfig<T>;
 
     /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
     /// keeps it from the previous step). Same result.
@@ -363,6 +365,10 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
         self.ts
             .reconfigure(config.rls, config.velocity_scaling::<D>(self.structure))
     }
+
+    fn rls_config(&self) -> &RlsConfig<T> {
+        self.ts.rls().config()
+    }
 }
 
 fn check_terms(needed: usize, found: usize) -> Result<(), Error> {
@@ -594,5 +600,9 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
         self.ts
             .reconfigure(config.rls, config.rate_scaling::<D>(self.structure))
+    }
+
+    fn rls_config(&self) -> &RlsConfig<T> {
+        self.ts.rls().config()
     }
 }
