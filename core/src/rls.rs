@@ -575,7 +575,7 @@ pub(crate) struct Everything(pub(crate) usize);
 
 /// Up to this many parameters, a bare [`Rls`] sums over every ξ entry: the list of the
 /// non-zero entries costs more than it saves (about 8 % at N = 2 on x86_64).
-const DENSE_SUMS_UP_TO: usize = 4;
+pub(crate) const DENSE_SUMS_UP_TO: usize = 4;
 
 impl Support for Everything {
     #[inline(always)]
@@ -1011,8 +1011,8 @@ fn check_regressor<T: Real, const N: usize>(xi: &[T; N]) -> Result<(), Error> {
     Ok(())
 }
 
-/// `ξᵀθ` in index order from +0. (θ is always finite, so a zero ξ_j adds ±0, which leaves
-/// the sum as it is: the same bits as the sums that skip zero ξ_j.)
+/// `ξᵀθ` in index order, skipping zero ξ_j (bit-identical to the dense sum: θ is finite, so a
+/// zero ξ_j adds ±0, which leaves a sum from +0 as it is).
 #[inline]
 fn dot<T: Real, const N: usize>(xi: &[T; N], theta: &[T; N]) -> T {
     let mut s = T::zero();

@@ -24,7 +24,9 @@
 //! once the data outweigh the prior.
 
 use crate::error::{ConfigError, Error, Quantity};
-use crate::rls::{col, Rls, RlsConfig, RlsState, Run, REGRESSOR_LIMIT, TARGET_LIMIT};
+use crate::rls::{
+    col, Everything, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
+};
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
 
@@ -388,8 +390,11 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     /// excites 3 of the 27 translational rules pays for 6 parameters, not 54.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
         self.fired |= fired_mask(&prepared.strengths);
+        // A model of one rule, or of a few parameters, has nothing (or little) to skip: it
+        // takes the bare estimator's dense update, inlined for its size.
+        let small = R == 1 || N <= DENSE_SUMS_UP_TO;
         let mut support = [Run { start: 0, end: 0 }; N];
-        let runs = self.support(&mut support);
+        let runs = if small { 0 } else { self.support(&mut support) };
         let support = support.get(..runs).unwrap_or(&[]);
         let last = prepared.count.saturating_sub(1);
         let forgetting = self.rls.config().forgetting;
@@ -410,7 +415,11 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             };
             // λ once per sample: the earlier rows are plain measurement updates.
             let lambda = if r == last { forgetting } else { T::one() };
-            self.rls.update_row(&xi, support, e, lambda);
+            if small {
+                self.rls.update_row(&xi, Everything(N), e, lambda);
+            } else {
+                self.rls.update_row(&xi, support, e, lambda);
+            }
         }
     }
 
@@ -484,8 +493,11 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     }
 }
 
+/// Runs of fired parameters this close (or closer) are merged into one.
+const RUN_GAP: u16 = 3;
+
 /// The parameters of the rules in `fired` (bit i: rule i; rules from 32 on always count) as
-/// ascending runs, merged where they touch, for `rules` rules of `terms` consequent terms
+/// ascending runs, merged where they are at most [`RUN_GAP`] apart, for `rules` rules of `terms` consequent terms
 /// each (parameter `s·rules + i` is term s of rule i). Returns how many runs it wrote.
 ///
 /// Not generic: one copy serves every rule base of a firmware.
@@ -522,7 +534,9 @@ fn fired_runs(fired: u32, rules: usize, terms: usize, runs: &mut [Run]) -> usize
         for &(first, end) in rule_runs.get(..n).unwrap_or(&[]) {
             let (start, end) = (base + first, base + end);
             match count.checked_sub(1).and_then(|k| runs.get_mut(k)) {
-                Some(prev) if prev.end == start => prev.end = end,
+                // A short gap is cheaper to walk through than a new run (its parameters are
+                // unchanged by an update either way).
+                Some(prev) if start - prev.end <= RUN_GAP => prev.end = end,
                 _ => {
                     if let Some(run) = runs.get_mut(count) {
                         *run = Run { start, end };
@@ -644,7 +658,7 @@ mod tests {
     use super::*;
     use crate::hover::table3::sets;
     use crate::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
-    use crate::rls::{Algorithm, Everything, Run};
+    use crate::rls::{Algorithm, Run};
 
     /// 36 rules (4 premise variables of 3, 3, 2 and 2 sets), so that rules from 32 on are
     /// covered; narrow shoulders, so that most rules fire only now and then.
@@ -760,8 +774,8 @@ mod tests {
         }
     }
 
-    /// The runs of fired rules, repeated in each term's block and merged where they touch;
-    /// rules from 32 on always count.
+    /// The runs of fired rules, repeated in each term's block and merged where at most
+    /// RUN_GAP apart; rules from 32 on always count.
     #[test]
     fn support_lists_the_fired_rules_parameters() {
         let mut ts = model(RlsConfig::default());
@@ -774,10 +788,11 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         assert_eq!(list(&ts, &mut runs), [(32, 36), (68, 72)]);
-        ts.fired = 0b1011 | 1 << 31;
+        // Rules 0, 1, 3, 10 and 31 (plus 32..36): gaps of up to RUN_GAP are walked through.
+        ts.fired = 0b1011 | 1 << 10 | 1 << 31;
         assert_eq!(
             list(&ts, &mut runs),
-            [(0, 2), (3, 4), (31, 38), (39, 40), (67, 72)]
+            [(0, 4), (10, 11), (31, 40), (46, 47), (67, 72)]
         );
         ts.fired = u32::MAX;
         assert_eq!(list(&ts, &mut runs), [(0, 72)]);
