@@ -508,19 +508,22 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
-        // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these.
+        // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these (unless
+        // they run over every entry, see `Support::dense_sums`).
         let mut nz = [0u16; N];
         let mut nnz = 0;
-        for run in support.runs().filter(|_| !support.dense_sums()) {
-            let Some(xs) = xi.get(run.clone()) else {
-                continue;
-            };
-            for (j, &x) in run.zip(xs) {
-                if x != T::zero() {
-                    if let Some(slot) = nz.get_mut(nnz) {
-                        // N ≤ 512 (`SIZES_OK`): the index fits.
-                        *slot = j as u16;
-                        nnz += 1;
+        if !support.dense_sums() {
+            for run in support.runs() {
+                let Some(xs) = xi.get(run.clone()) else {
+                    continue;
+                };
+                for (j, &x) in run.zip(xs) {
+                    if x != T::zero() {
+                        if let Some(slot) = nz.get_mut(nnz) {
+                            // N ≤ 512 (`SIZES_OK`): the index fits.
+                            *slot = j as u16;
+                            nnz += 1;
+                        }
                     }
                 }
             }

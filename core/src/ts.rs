@@ -394,7 +394,11 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         // takes the bare estimator's dense update, inlined for its size.
         let small = R == 1 || N <= DENSE_SUMS_UP_TO;
         let mut support = [Run { start: 0, end: 0 }; N];
-        let runs = if small { 0 } else { self.support(&mut support) };
+        let runs = if small {
+            0
+        } else {
+            fired_runs(self.fired, R, D, &mut support)
+        };
         let support = support.get(..runs).unwrap_or(&[]);
         let last = prepared.count.saturating_sub(1);
         let forgetting = self.rls.config().forgetting;
@@ -421,12 +425,6 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
                 self.rls.update_row(&xi, support, e, lambda);
             }
         }
-    }
-
-    /// The parameters of the fired rules as ascending runs (merged where they touch);
-    /// returns how many.
-    fn support(&self, runs: &mut [Run; N]) -> usize {
-        fired_runs(self.fired, R, D, runs)
     }
 
     /// The rules whose parameters are coupled in an imported factor (an off-diagonal entry
@@ -781,7 +779,7 @@ mod tests {
         let mut ts = model(RlsConfig::default());
         let mut runs = [Run { start: 0, end: 0 }; 72];
         let list = |ts: &Model, runs: &mut [Run; 72]| {
-            let n = ts.support(runs);
+            let n = fired_runs(ts.fired, 36, 2, runs);
             runs[..n]
                 .iter()
                 .map(|r| (r.start, r.end))
