@@ -3,30 +3,30 @@
 //! Run: `cargo run -p rotorid --example memory`
 use core::mem::size_of;
 use rotorid::{
-    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
+
+macro_rules! row {
+    ($t:ident) => {
+        println!(
+            "| {} | {} | {} |",
+            stringify!($t),
+            size_of::<$t<f32>>(),
+            size_of::<$t<f64>>()
+        );
+    };
+}
 
 fn main() {
     println!("| identifier | f32 (bytes) | f64 (bytes) |");
     println!("|---|---|---|");
-    println!(
-        "| PaperFuzzyIdentifier | {} | {} |",
-        size_of::<PaperFuzzyIdentifier<f32>>(),
-        size_of::<PaperFuzzyIdentifier<f64>>()
-    );
-    println!(
-        "| PaperPlainIdentifier | {} | {} |",
-        size_of::<PaperPlainIdentifier<f32>>(),
-        size_of::<PaperPlainIdentifier<f64>>()
-    );
-    println!(
-        "| ExtendedFuzzyIdentifier | {} | {} |",
-        size_of::<ExtendedFuzzyIdentifier<f32>>(),
-        size_of::<ExtendedFuzzyIdentifier<f64>>()
-    );
-    println!(
-        "| ExtendedPlainIdentifier | {} | {} |",
-        size_of::<ExtendedPlainIdentifier<f32>>(),
-        size_of::<ExtendedPlainIdentifier<f64>>()
-    );
+    row!(FlightIdentifier);
+    row!(FlightPlainIdentifier);
+    row!(PaperFuzzyIdentifier);
+    row!(PaperLocalIdentifier);
+    row!(PaperPlainIdentifier);
+    row!(ExtendedFuzzyIdentifier);
+    row!(ExtendedLocalIdentifier);
+    row!(ExtendedPlainIdentifier);
 }

@@ -7,7 +7,10 @@ pub mod convergence;
 pub mod error;
 pub mod frames;
 pub mod hover;
+pub mod learning;
+pub mod local;
 pub mod membership;
+pub mod premise;
 pub mod rls;
 pub mod rule_base;
 pub mod scalar;
@@ -17,9 +20,12 @@ pub mod ts;
 
 pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
-    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample,
-    HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier,
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
+    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
+pub use learning::{Learning, TsEstimator};
+pub use local::LocalTsRls;
 pub use membership::MembershipFunction;
 pub use rls::{Algorithm, Rls, RlsConfig, RlsState};
 pub use rule_base::RuleBase;

@@ -166,35 +166,13 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         self.regressor_from(&strengths, terms)
     }
 
-    /// The consequent terms divided by their scales, `Δ̃_s = Δ_s/S_s`, each checked finite and
-    /// within [`REGRESSOR_LIMIT`]. Since every firing strength is in [0, 1], that bounds every
-    /// regressor entry `Δ̃_s ξ_i` as the estimator requires.
-    #[inline]
-    fn scaled_terms(&self, terms: &[T; D]) -> Result<[T; D], Error> {
-        let limit = T::lit(REGRESSOR_LIMIT);
-        let mut scaled = [T::zero(); D];
-        for (s, ((d, &t), &scale)) in scaled
-            .iter_mut()
-            .zip(terms.iter())
-            .zip(self.scaling.terms.iter())
-            .enumerate()
-        {
-            let at = Quantity::Regressor((s * R) as u16);
-            if !t.is_finite() {
-                return Err(Error::NonFinite(at));
-            }
-            *d = t / scale;
-            if !within(*d, limit) {
-                return Err(Error::OutOfRange(at));
-            }
-        }
-        Ok(scaled)
-    }
-
     /// The regressor for firing strengths already computed from the premise.
     #[inline]
     fn regressor_from(&self, strengths: &[T; R], terms: &[T; D]) -> Result<[T; N], Error> {
-        Ok(regressor_of(strengths, &self.scaled_terms(terms)?))
+        Ok(regressor_of(
+            strengths,
+            &scaled_terms::<T, R, D>(&self.scaling, terms)?,
+        ))
     }
 
     /// `b_s = Σ_i ξ_i θ̃_{s·R+i}`: the rule-weighted parameter of each term. An output with
@@ -233,7 +211,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         let b = self.block_products(&strengths);
         let mut out = [T::zero(); M];
         for (o, t) in out.iter_mut().zip(terms.iter()) {
-            *o = combine(&self.scaled_terms(t)?, &b) * self.scaling.target;
+            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, &b) * self.scaling.target;
         }
         Ok(out)
     }
@@ -267,118 +245,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     ) -> Result<Prepared<T, R, D, M>, Error> {
         let strengths = self.rules.firing_strengths(premise)?;
         let b = self.block_products(&strengths);
-        let limit = T::lit(TARGET_LIMIT);
-        let mut scaled_terms = [[T::zero(); D]; M];
-        let mut scaled = [T::zero(); M];
-        let mut innovations = [T::zero(); M];
-        for (m, (((st, y), e), (t, &target))) in scaled_terms
-            .iter_mut()
-            .zip(scaled.iter_mut())
-            .zip(innovations.iter_mut())
-            .zip(terms.iter().zip(targets.iter()))
-            .enumerate()
-        {
-            let at = Quantity::Target(m as u8);
-            *st = self.scaled_terms(t)?;
-            if !target.is_finite() {
-                return Err(Error::NonFinite(at));
-            }
-            *y = target / self.scaling.target;
-            *e = *y - combine(st, &b);
-            if !(within(*y, limit) && within(*e, limit)) {
-                return Err(Error::OutOfRange(at));
-            }
-        }
-
-        // The rows to learn from. Output m's regressor is `Δ̃_m ⊗ ξ`; when Δ̃_m has a single
-        // non-zero term s, it is `Δ̃_{m,s}` times the fixed vector `e_s ⊗ ξ`. Outputs with the
-        // same single term are therefore parallel, and their rank-one updates sum to one:
-        // `Σ_m d_m² g gᵀ = φ φᵀ` and `Σ_m d_m ỹ_m g = φ ỹ` with `φ = ‖d‖ g`, `ỹ = Σ d_m ỹ_m/‖d‖`.
-        // One update instead of several (Eq. 27's v_x and v_z), equal in exact arithmetic.
-        let mut rows = [[T::zero(); D]; M];
-        let mut row_targets = [T::zero(); M];
-        let mut groups = [Group::<T>::default(); M];
-        let mut count = 0;
-        for (st, &y) in scaled_terms.iter().zip(scaled.iter()) {
-            let term = single_term(st);
-            match term {
-                // Δ̃_m = 0: a zero regressor carries no information and gets no row.
-                Term::Zero => continue,
-                Term::Single(slot, d, sq) => {
-                    let mut same = groups.iter_mut().take(count);
-                    if let Some(g) = same.find(|g| g.slot == Some(slot)) {
-                        g.sum_sq += sq;
-                        g.weighted_target += d * y;
-                        g.members += 1;
-                        continue;
-                    }
-                }
-                Term::Several => {}
-            }
-            let (Some(row), Some(t), Some(g)) = (
-                rows.get_mut(count),
-                row_targets.get_mut(count),
-                groups.get_mut(count),
-            ) else {
-                break;
-            };
-            *row = *st;
-            *t = y;
-            if let Term::Single(slot, d, sq) = term {
-                *g = Group {
-                    slot: Some(slot),
-                    sum_sq: sq,
-                    weighted_target: d * y,
-                    members: 1,
-                };
-            }
-            count += 1;
-        }
-        if count == 0 {
-            // Every output is zero: learn from output 0's (zero) row all the same, so that the
-            // sample still counts, and forgets, once.
-            if let (Some(t), Some(&y)) = (row_targets.first_mut(), scaled.first()) {
-                *t = y;
-                count = 1;
-            }
-        }
-        let regressor_limit = T::lit(REGRESSOR_LIMIT);
-        for (m, ((g, row), y)) in groups
-            .iter()
-            .zip(rows.iter_mut())
-            .zip(row_targets.iter_mut())
-            .take(count)
-            .enumerate()
-        {
-            if let (Some(slot), true) = (g.slot, g.members > 1) {
-                let norm = g.sum_sq.sqrt();
-                *y = g.weighted_target / norm;
-                if let Some(d) = row.get_mut(slot) {
-                    *d = norm;
-                }
-                if !within(norm, regressor_limit) {
-                    return Err(Error::OutOfRange(Quantity::Regressor((slot * R) as u16)));
-                }
-                if !within(*y, limit) {
-                    return Err(Error::OutOfRange(Quantity::Target(m as u8)));
-                }
-            }
-        }
-        let first = match (rows.first(), row_targets.first()) {
-            (Some(row), Some(&y)) => y - combine(row, &b),
-            _ => T::zero(),
-        };
-        if !within(first, limit) {
-            return Err(Error::OutOfRange(Quantity::Target(0)));
-        }
-        Ok(Prepared {
-            strengths,
-            rows,
-            targets: row_targets,
-            count,
-            first,
-            innovations: innovations.map(|e| e * self.scaling.target),
-        })
+        prepare_rows(strengths, &b, &self.scaling, terms, targets)
     }
 
     /// Learns from a [`Prepared`] update made by this model's [`prepare`](Self::prepare)
@@ -491,6 +358,158 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     }
 }
 
+/// The consequent terms divided by their scales, `Δ̃_s = Δ_s/S_s`, each checked finite and
+/// within [`REGRESSOR_LIMIT`]. Since every firing strength is in [0, 1], that bounds every
+/// regressor entry `Δ̃_s ξ_i` as the estimator requires.
+#[inline]
+pub(crate) fn scaled_terms<T: Real, const R: usize, const D: usize>(
+    scaling: &Scaling<T, D>,
+    terms: &[T; D],
+) -> Result<[T; D], Error> {
+    let limit = T::lit(REGRESSOR_LIMIT);
+    let mut scaled = [T::zero(); D];
+    for (s, ((d, &t), &scale)) in scaled
+        .iter_mut()
+        .zip(terms.iter())
+        .zip(scaling.terms.iter())
+        .enumerate()
+    {
+        let at = Quantity::Regressor((s * R) as u16);
+        if !t.is_finite() {
+            return Err(Error::NonFinite(at));
+        }
+        *d = t / scale;
+        if !within(*d, limit) {
+            return Err(Error::OutOfRange(at));
+        }
+    }
+    Ok(scaled)
+}
+
+/// The checks and rows of an update of M outputs (see [`TsRls::prepare`]), given the firing
+/// strengths and the rule-weighted parameters `b` of the current θ (see `block_products`).
+/// Shared by the global and the local estimator: both predict `Σ_s Δ̃_s b_s`.
+pub(crate) fn prepare_rows<T: Real, const R: usize, const D: usize, const M: usize>(
+    strengths: [T; R],
+    b: &[T; D],
+    scaling: &Scaling<T, D>,
+    terms: &[[T; D]; M],
+    targets: &[T; M],
+) -> Result<Prepared<T, R, D, M>, Error> {
+    let limit = T::lit(TARGET_LIMIT);
+    let mut all_terms = [[T::zero(); D]; M];
+    let mut scaled = [T::zero(); M];
+    let mut innovations = [T::zero(); M];
+    for (m, (((st, y), e), (t, &target))) in all_terms
+        .iter_mut()
+        .zip(scaled.iter_mut())
+        .zip(innovations.iter_mut())
+        .zip(terms.iter().zip(targets.iter()))
+        .enumerate()
+    {
+        let at = Quantity::Target(m as u8);
+        *st = scaled_terms::<T, R, D>(scaling, t)?;
+        if !target.is_finite() {
+            return Err(Error::NonFinite(at));
+        }
+        *y = target / scaling.target;
+        *e = *y - combine(st, b);
+        if !(within(*y, limit) && within(*e, limit)) {
+            return Err(Error::OutOfRange(at));
+        }
+    }
+
+    // The rows to learn from. Output m's regressor is `Δ̃_m ⊗ ξ`; when Δ̃_m has a single
+    // non-zero term s, it is `Δ̃_{m,s}` times the fixed vector `e_s ⊗ ξ`. Outputs with the
+    // same single term are therefore parallel, and their rank-one updates sum to one:
+    // `Σ_m d_m² g gᵀ = φ φᵀ` and `Σ_m d_m ỹ_m g = φ ỹ` with `φ = ‖d‖ g`, `ỹ = Σ d_m ỹ_m/‖d‖`.
+    // One update instead of several (Eq. 27's v_x and v_z), equal in exact arithmetic.
+    let mut rows = [[T::zero(); D]; M];
+    let mut row_targets = [T::zero(); M];
+    let mut groups = [Group::<T>::default(); M];
+    let mut count = 0;
+    for (st, &y) in all_terms.iter().zip(scaled.iter()) {
+        let term = single_term(st);
+        match term {
+            // Δ̃_m = 0: a zero regressor carries no information and gets no row.
+            Term::Zero => continue,
+            Term::Single(slot, d, sq) => {
+                let mut same = groups.iter_mut().take(count);
+                if let Some(g) = same.find(|g| g.slot == Some(slot)) {
+                    g.sum_sq += sq;
+                    g.weighted_target += d * y;
+                    g.members += 1;
+                    continue;
+                }
+            }
+            Term::Several => {}
+        }
+        let (Some(row), Some(t), Some(g)) = (
+            rows.get_mut(count),
+            row_targets.get_mut(count),
+            groups.get_mut(count),
+        ) else {
+            break;
+        };
+        *row = *st;
+        *t = y;
+        if let Term::Single(slot, d, sq) = term {
+            *g = Group {
+                slot: Some(slot),
+                sum_sq: sq,
+                weighted_target: d * y,
+                members: 1,
+            };
+        }
+        count += 1;
+    }
+    if count == 0 {
+        // Every output is zero: learn from output 0's (zero) row all the same, so that the
+        // sample still counts, and forgets, once.
+        if let (Some(t), Some(&y)) = (row_targets.first_mut(), scaled.first()) {
+            *t = y;
+            count = 1;
+        }
+    }
+    let regressor_limit = T::lit(REGRESSOR_LIMIT);
+    for (m, ((g, row), y)) in groups
+        .iter()
+        .zip(rows.iter_mut())
+        .zip(row_targets.iter_mut())
+        .take(count)
+        .enumerate()
+    {
+        if let (Some(slot), true) = (g.slot, g.members > 1) {
+            let norm = g.sum_sq.sqrt();
+            *y = g.weighted_target / norm;
+            if let Some(d) = row.get_mut(slot) {
+                *d = norm;
+            }
+            if !within(norm, regressor_limit) {
+                return Err(Error::OutOfRange(Quantity::Regressor((slot * R) as u16)));
+            }
+            if !within(*y, limit) {
+                return Err(Error::OutOfRange(Quantity::Target(m as u8)));
+            }
+        }
+    }
+    let first = match (rows.first(), row_targets.first()) {
+        (Some(row), Some(&y)) => y - combine(row, b),
+        _ => T::zero(),
+    };
+    if !within(first, limit) {
+        return Err(Error::OutOfRange(Quantity::Target(0)));
+    }
+    Ok(Prepared {
+        strengths,
+        rows,
+        targets: row_targets,
+        count,
+        first,
+        innovations: innovations.map(|e| e * scaling.target),
+    })
+}
+
 /// Runs of fired parameters this close (or closer) are merged into one.
 const RUN_GAP: u16 = 3;
 
@@ -569,10 +588,10 @@ fn fired_mask<T: Real>(strengths: &[T]) -> u32 {
 /// has no row (unless all are zero).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Prepared<T, const R: usize, const D: usize, const M: usize> {
-    strengths: [T; R],
-    rows: [[T; D]; M],
-    targets: [T; M],
-    count: usize,
+    pub(crate) strengths: [T; R],
+    pub(crate) rows: [[T; D]; M],
+    pub(crate) targets: [T; M],
+    pub(crate) count: usize,
     first: T,
     /// Prior innovations `y_m − ŷ_m(k)` in physical units, one per output.
     pub innovations: [T; M],
@@ -623,7 +642,7 @@ fn single_term<T: Real, const D: usize>(terms: &[T; D]) -> Term<T> {
 /// `Σ_s Δ̃_s b_s` over the non-zero terms: an output's prediction from [`TsRls`]'s block
 /// products.
 #[inline]
-fn combine<T: Real, const D: usize>(terms: &[T; D], b: &[T; D]) -> T {
+pub(crate) fn combine<T: Real, const D: usize>(terms: &[T; D], b: &[T; D]) -> T {
     let mut sum = T::zero();
     for (&d, &bs) in terms.iter().zip(b.iter()) {
         if d != T::zero() {

@@ -18,6 +18,7 @@
 use nalgebra::Vector3;
 use rotorid::convergence::ConvergenceMonitor;
 use rotorid::frames::NedFrdSample;
+use rotorid::hover::{flight_sets, BodyFrame, Premise};
 use rotorid::hover::{
     Attitude, Controls, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel,
     StepOutput,
@@ -25,7 +26,8 @@ use rotorid::hover::{
 use rotorid::rls::{Algorithm, RlsState};
 use rotorid::sweep::{Channel as SweepChannel, Sweep, SweepSchedule};
 use rotorid::{
-    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
     PaperPlainIdentifier,
 };
 use serde::{Deserialize, Serialize};
@@ -318,6 +320,13 @@ pub trait Identifier {
     fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error>;
     /// [`HoverIdentifier::predict`]: one-step prediction with frozen θ.
     fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+    /// One-step prediction given the state of the sample before (see
+    /// [`HoverIdentifier::predict_after`]).
+    fn predict_after(
+        &self,
+        before: Option<&HoverState<f32>>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error>;
     /// [`HoverIdentifier::resume`]: restart the sample chain (after a gap).
     fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
     /// A boxed copy (to verify a still-adapting copy next to the frozen one).
@@ -339,8 +348,11 @@ pub struct ModelParameters {
     pub theta: Vec<f32>,
     /// Packed covariance P, or packed U with D on the diagonal.
     pub factor: Vec<f32>,
-    /// Updates made.
+    /// Updates made (a locally learnt model: the sum over its rules).
     pub updates: u32,
+    /// A locally learnt model: the updates of each rule (empty for a global model).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rule_updates: Vec<u32>,
 }
 
 /// Conversion of one model's [`RlsState`] to and from [`ModelParameters`].
@@ -363,6 +375,7 @@ impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
             theta: self.theta.to_vec(),
             factor: self.factor.to_vec(),
             updates: self.updates,
+            rule_updates: Vec::new(),
         }
     }
 
@@ -395,6 +408,56 @@ impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
     }
 }
 
+/// A locally learnt model: every rule's θ_i and factor one after another (rule-major), and
+/// each rule's update count in `rule_updates`.
+impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState<f32, D, DP>; R] {
+    fn to_parameters(&self, model: &str) -> ModelParameters {
+        let mut p = ModelParameters {
+            model: model.to_string(),
+            algorithm: String::new(),
+            theta: Vec::new(),
+            factor: Vec::new(),
+            updates: 0,
+            rule_updates: Vec::new(),
+        };
+        for rule in self {
+            let one = rule.to_parameters(model);
+            p.algorithm = one.algorithm;
+            p.theta.extend(one.theta);
+            p.factor.extend(one.factor);
+            p.updates = p.updates.wrapping_add(one.updates);
+            p.rule_updates.push(one.updates);
+        }
+        p
+    }
+
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+        if p.theta.len() != R * D || p.factor.len() != R * DP || p.rule_updates.len() != R {
+            return Err(format!(
+                "model {}: {} parameters, {} covariance entries and {} rule counts; this identifier has {R} rules of {D} parameters and {DP} entries",
+                p.model,
+                p.theta.len(),
+                p.factor.len(),
+                p.rule_updates.len()
+            ));
+        }
+        let mut out = Vec::with_capacity(R);
+        for i in 0..R {
+            let one = ModelParameters {
+                model: p.model.clone(),
+                algorithm: p.algorithm.clone(),
+                theta: p.theta[i * D..(i + 1) * D].to_vec(),
+                factor: p.factor[i * DP..(i + 1) * DP].to_vec(),
+                updates: p.rule_updates[i],
+                rule_updates: Vec::new(),
+            };
+            out.push(RlsState::<f32, D, DP>::from_parameters(&one)?);
+        }
+        out.try_into()
+            .map_err(|_| format!("model {}: rule count", p.model))
+    }
+}
+
 /// Names of the four models in export order.
 pub const MODEL_NAMES: [&str; 4] = ["velocity", "q", "r", "p"];
 
@@ -415,6 +478,14 @@ where
 
     fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
         HoverIdentifier::predict(self, sample)
+    }
+
+    fn predict_after(
+        &self,
+        before: Option<&HoverState<f32>>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::predict_after(self, before, sample)
     }
 
     fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
@@ -452,6 +523,10 @@ where
     }
 }
 
+/// Builds a fresh identifier from the training logs (which only variants that place their
+/// premise sets from data read).
+pub type BuildFn = fn(&[Vec<HoverSample<f32>>]) -> Result<Box<dyn Identifier>, rotorid::Error>;
+
 /// A named identifier configuration to evaluate. Adding a variant is one entry in
 /// [`variants`].
 #[derive(Clone, Copy)]
@@ -460,8 +535,9 @@ pub struct Variant {
     pub name: &'static str,
     /// One-line description for reports.
     pub description: &'static str,
-    /// A fresh (untrained) identifier.
-    pub build: fn() -> Result<Box<dyn Identifier>, rotorid::Error>,
+    /// A fresh (untrained) identifier; given the training logs for variants that place their
+    /// premise sets from data.
+    pub build: BuildFn,
 }
 
 impl std::fmt::Debug for Variant {
@@ -477,7 +553,7 @@ pub fn variants() -> Vec<Variant> {
             name: "paper fuzzy",
             description:
                 "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6, unscaled",
-            build: || {
+            build: |_| {
                 Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
                     HoverConfig::paper_robust(),
                 )?))
@@ -486,7 +562,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "paper plain",
             description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6, unscaled",
-            build: || {
+            build: |_| {
                 Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
                     HoverConfig::paper_robust(),
                 )?))
@@ -495,7 +571,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "extended fuzzy",
             description: "rates + damping, collective torque, trim (Table 3 sets, 18+9+9 rules); velocity + drag, tail-rotor side force (v_y sets, 3 rules); U-D RLS, helicopter scaling",
-            build: || {
+            build: |_| {
                 Ok(Box::new(ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(
                     HoverConfig::default(),
                 )?))
@@ -504,13 +580,81 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "extended plain",
             description: "the extended terms with one rule per model; U-D RLS, helicopter scaling",
-            build: || {
+            build: |_| {
                 Ok(Box::new(ExtendedPlainIdentifier::<f32>::extended_plain(
                     HoverConfig::default(),
                 )?))
             },
         },
+        Variant {
+            name: "paper local",
+            description: "paper fuzzy's structure and Table 3 sets, each rule its own weighted RLS (local learning)",
+            build: |_| {
+                Ok(Box::new(PaperLocalIdentifier::<f32>::paper_local(
+                    HoverConfig::paper_robust(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended local",
+            description: "extended fuzzy's structure and sets, each rule its own weighted RLS (local learning)",
+            build: |_| {
+                Ok(Box::new(ExtendedLocalIdentifier::<f32>::extended_local(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "flight",
+            description: "the flight default: extended terms, 3 rules per model on forward speed at the data's quantiles (noise floor 3σ_n), local learning, helicopter scaling",
+            build: |training| {
+                Ok(Box::new(FlightIdentifier::<f32>::flight(
+                    HoverConfig::default(),
+                    forward_speed_sets(training)?,
+                )?))
+            },
+        },
+        Variant {
+            name: "flight plain",
+            description: "the flight default's terms (incl. speed and second-order rate terms) with one rule per model: what the rules add",
+            build: |_| {
+                Ok(Box::new(FlightPlainIdentifier::<f32>::flight_plain(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "flight fixed sets",
+            description: "the flight default with its built-in forward-speed sets (0, 5, 10 m/s, σ 2.5) instead of sets from the data",
+            build: |_| {
+                Ok(Box::new(FlightIdentifier::<f32>::flight(
+                    HoverConfig::default(),
+                    flight_sets(),
+                )?))
+            },
+        },
     ]
+}
+
+/// The forward-speed sets of the flight identifier placed from training logs
+/// ([`rotorid::premise::quantile_sets`], three sets; noise from the first log's first
+/// differences). The core's [`flight_sets`] when there are too few samples.
+pub fn forward_speed_sets(
+    training: &[Vec<HoverSample<f32>>],
+) -> Result<rotorid::rule_base::PremiseSets<f32>, rotorid::Error> {
+    let forward = |s: &HoverSample<f32>| {
+        let frame = BodyFrame::of(&s.attitude);
+        Premise::HeadingVelocity.of(s, &frame)[0]
+    };
+    let mut values: Vec<f32> = training.iter().flatten().map(forward).collect();
+    let first: Vec<f32> = training
+        .first()
+        .map_or_else(Vec::new, |l| l.iter().map(forward).collect());
+    let mut scratch = vec![0.0f32; first.len()];
+    match rotorid::premise::noise_std(&first, &mut scratch) {
+        Some(noise) if !values.is_empty() => rotorid::premise::quantile_sets(&mut values, 3, noise),
+        _ => Ok(flight_sets()),
+    }
 }
 
 /// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`].
@@ -712,6 +856,8 @@ pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize
         let end = (start + window).min(samples.len() - 1);
         let x0 = samples[start].state();
         let mut x = x0;
+        // The state before the window's first sample is measured; later, the model's own.
+        let mut before = start.checked_sub(1).map(|i| samples[i].state());
         for j in start..end {
             hold_pairs.push((x0, samples[j + 1].state()));
         }
@@ -719,8 +865,9 @@ pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize
             let mut s = samples[j];
             s.velocity = x.velocity;
             s.rates = x.rates;
-            match id.predict(&s) {
+            match id.predict_after(before.as_ref(), &s) {
                 Ok(next) => {
+                    before = Some(x);
                     x = next;
                     trace[j + 1] = Some(next);
                     pairs.push((next, samples[j + 1].state()));
@@ -754,7 +901,7 @@ pub fn evaluate(
     warm_start: Option<&[ModelParameters]>,
     progress: &mut dyn FnMut(),
 ) -> Result<VariantResult, String> {
-    let mut id = (variant.build)().map_err(|e| format!("{}: {e}", variant.name))?;
+    let mut id = (variant.build)(training).map_err(|e| format!("{}: {e}", variant.name))?;
     if let Some(p) = warm_start {
         id.load(p)
             .map_err(|e| format!("{}: warm start: {e}", variant.name))?;
@@ -764,12 +911,14 @@ pub fn evaluate(
     // Frozen one-step predictions (Table 4).
     let mut preds = Vec::with_capacity(verification.len());
     let mut rejected = 0;
-    for s in verification
+    for (k, s) in verification
         .iter()
         .take(verification.len().saturating_sub(1))
+        .enumerate()
     {
         progress();
-        let p = id.predict(s).ok();
+        let before = k.checked_sub(1).map(|i| verification[i].state());
+        let p = id.predict_after(before.as_ref(), s).ok();
         if p.is_none() {
             rejected += 1;
         }

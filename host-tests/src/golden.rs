@@ -167,7 +167,7 @@ pub trait HasDiagnostics<T> {
 }
 
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> HasDiagnostics<T>
-    for rotorid::hover::VelocityModel<T, R, D, N, NP>
+    for rotorid::hover::VelocityModel<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
 {
     fn theta(&self) -> Vec<T> {
         self.ts().rls().parameters().to_vec()
@@ -178,7 +178,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> H
 }
 
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> HasDiagnostics<T>
-    for rotorid::hover::RateModel<T, R, D, N, NP>
+    for rotorid::hover::RateModel<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
 {
     fn theta(&self) -> Vec<T> {
         self.ts().rls().parameters().to_vec()
@@ -187,6 +187,30 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> H
         self.ts().rls().covariance_diagonal().to_vec()
     }
 }
+
+macro_rules! local_diagnostics {
+    ($model:ident) => {
+        /// Rule by rule: θ_1, θ_2, … and their covariance diagonals.
+        impl<T: Real, const R: usize, const D: usize, const DP: usize> HasDiagnostics<T>
+            for rotorid::hover::$model<T, R, D, rotorid::LocalTsRls<T, 3, R, D, DP>>
+        {
+            fn theta(&self) -> Vec<T> {
+                (0..R)
+                    .filter_map(|i| self.ts().rule(i))
+                    .flat_map(|r| r.parameters().to_vec())
+                    .collect()
+            }
+            fn diagonal(&self) -> Vec<T> {
+                (0..R)
+                    .filter_map(|i| self.ts().rule(i))
+                    .flat_map(|r| r.covariance_diagonal().to_vec())
+                    .collect()
+            }
+        }
+    };
+}
+local_diagnostics!(VelocityModel);
+local_diagnostics!(RateModel);
 
 /// Steps of every golden run.
 pub const STEPS: usize = 400;

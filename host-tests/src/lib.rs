@@ -1,6 +1,7 @@
 //! Host-side (std) companion of the `rotorid` core: plant simulator, experiments, log format,
 //! independent reference implementation and the firmware link driver.
 pub mod dense_rls;
+pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
 pub mod golden;

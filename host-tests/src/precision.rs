@@ -39,7 +39,7 @@ pub trait PhysicalParameters {
 macro_rules! physical_impl {
     ($model:ident) => {
         impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
-            PhysicalParameters for $model<T, R, D, N, NP>
+            PhysicalParameters for $model<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
         {
             fn physical(&self) -> Vec<(f64, f64)> {
                 let ts = self.ts();
@@ -60,6 +60,34 @@ macro_rules! physical_impl {
 }
 physical_impl!(VelocityModel);
 physical_impl!(RateModel);
+
+macro_rules! physical_local_impl {
+    ($model:ident) => {
+        /// Rule by rule (θ_1's terms, then θ_2's, …).
+        impl<T: Real, const R: usize, const D: usize, const DP: usize> PhysicalParameters
+            for $model<T, R, D, rotorid::LocalTsRls<T, 3, R, D, DP>>
+        {
+            fn physical(&self) -> Vec<(f64, f64)> {
+                let ts = self.ts();
+                let alpha = ts.config().initial_covariance.to_f64();
+                (0..R)
+                    .flat_map(|rule| {
+                        let diag = ts.rule(rule).map(|r| r.covariance_diagonal());
+                        (0..D).map(move |term| {
+                            let value = ts
+                                .physical_parameter(rule, term)
+                                .map_or(f64::NAN, Real::to_f64);
+                            let p = diag.map_or(f64::NAN, |d| d[term].to_f64());
+                            (value, p / alpha)
+                        })
+                    })
+                    .collect()
+            }
+        }
+    };
+}
+physical_local_impl!(VelocityModel);
+physical_local_impl!(RateModel);
 
 fn train<T, V, Q, R, P>(id: &mut HoverIdentifier<T, V, Q, R, P>, logs: &[Vec<HoverSample<f32>>])
 where

@@ -2,14 +2,17 @@
 
 use crate::error::{ConfigError, Error};
 use crate::hover::models::{
-    BodyFrame, RateAxis, RateModel, RateStructure, StateModel, VelocityModel, VelocityStructure,
+    BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel, VelocityModel,
+    VelocityStructure,
 };
 use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
 use crate::hover::table3;
+use crate::learning::TsEstimator;
+use crate::local::LocalTsRls;
 use crate::rls::RlsConfig;
-use crate::rule_base::RuleBase;
+use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
-use crate::ts::Scaling;
+use crate::ts::{Scaling, TsRls};
 
 /// Whether the models divide their terms by nominal scales (see [`crate::ts::Scaling`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -136,27 +139,48 @@ pub struct HoverIdentifier<T, V, Q, R, P> {
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
     timing: Timing,
-    /// The sample the next step learns from, with its body frame.
-    previous: Option<(HoverSample<T>, BodyFrame<T>)>,
+    /// The end of the current sample chain (how much of it is valid: `timing.links`).
+    chain: Chain<T>,
+}
+
+/// The end of a sample chain: the sample the next step learns from, its body frame, and the
+/// body rates `[q r p]` of the sample before it (for second-order rate terms,
+/// [`RateStructure::Flight`]). Kept without `Option`s, the count of valid links living in
+/// [`Timing`]'s padding, so that the paper fuzzy identifier stays within 11 KiB.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct Chain<T> {
+    sample: HoverSample<T>,
+    frame: BodyFrame<T>,
+    before: [T; 3],
+}
+
+impl<T: Real> Chain<T> {
+    fn empty() -> Self {
+        Self {
+            sample: HoverSample::default(),
+            frame: BodyFrame::identity(),
+            before: [T::zero(); 3],
+        }
+    }
 }
 
 /// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
 /// 54 + 36 + 18 + 18 parameters.
 pub type PaperFuzzyIdentifier<T> = HoverIdentifier<
     T,
-    VelocityModel<T, 27, 2, 54, 1485>,
-    RateModel<T, 18, 2, 36, 666>,
-    RateModel<T, 9, 2, 18, 171>,
-    RateModel<T, 9, 2, 18, 171>,
+    GlobalVelocityModel<T, 27, 2, 54, 1485>,
+    GlobalRateModel<T, 18, 2, 36, 666>,
+    GlobalRateModel<T, 9, 2, 18, 171>,
+    GlobalRateModel<T, 9, 2, 18, 171>,
 >;
 
 /// The paper's plain-RLS baseline (Eqs. 19 and 26): the same models with a single rule.
 pub type PaperPlainIdentifier<T> = HoverIdentifier<
     T,
-    VelocityModel<T, 1, 2, 2, 3>,
-    RateModel<T, 1, 2, 2, 3>,
-    RateModel<T, 1, 2, 2, 3>,
-    RateModel<T, 1, 2, 2, 3>,
+    GlobalVelocityModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
 >;
 
 /// The extended structure (damping and trim terms, [`RateStructure::Extended`],
@@ -165,20 +189,90 @@ pub type PaperPlainIdentifier<T> = HoverIdentifier<
 /// the thrust per unit collective varies with the vertical inflow, while drag is linear).
 pub type ExtendedFuzzyIdentifier<T> = HoverIdentifier<
     T,
-    VelocityModel<T, 3, 7, 21, 231>,
-    RateModel<T, 18, 5, 90, 4095>,
-    RateModel<T, 9, 5, 45, 1035>,
-    RateModel<T, 9, 5, 45, 1035>,
+    GlobalVelocityModel<T, 3, 7, 21, 231>,
+    GlobalRateModel<T, 18, 5, 90, 4095>,
+    GlobalRateModel<T, 9, 5, 45, 1035>,
+    GlobalRateModel<T, 9, 5, 45, 1035>,
 >;
 
 /// The extended structure with a single rule per model (a linear model with damping and trim).
 pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
     T,
-    VelocityModel<T, 1, 7, 7, 28>,
-    RateModel<T, 1, 5, 5, 15>,
-    RateModel<T, 1, 5, 5, 15>,
-    RateModel<T, 1, 5, 5, 15>,
+    GlobalVelocityModel<T, 1, 7, 7, 28>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
 >;
+
+/// The paper's structure and Table 3's sets, every rule learnt locally (see
+/// [`crate::local`]): 27 + 18 + 9 + 9 rules of 2 terms.
+pub type PaperLocalIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 27, 2, 3>,
+    LocalRateModel<T, 18, 2, 3>,
+    LocalRateModel<T, 9, 2, 3>,
+    LocalRateModel<T, 9, 2, 3>,
+>;
+
+/// [`ExtendedFuzzyIdentifier`]'s structure and sets, every rule learnt locally.
+pub type ExtendedLocalIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 3, 7, 28>,
+    LocalRateModel<T, 18, 5, 15>,
+    LocalRateModel<T, 9, 5, 15>,
+    LocalRateModel<T, 9, 5, 15>,
+>;
+
+/// **The identifier to fly**: the extended structure, each model scheduled on the forward
+/// speed (the heading-frame velocity of [`Premise::HeadingVelocity`], sets on its first
+/// component only) with three rules learnt locally. See [`FlightIdentifier::flight`] and
+/// [`flight_sets`].
+///
+/// Why (docs/results.md has the evidence): a helicopter's rate and velocity dynamics change
+/// mainly with airspeed, so that is what the rules are scheduled on; local learning makes
+/// each rule a local linear model that stays sane where it is rarely visited; three rules of
+/// 7 and 5 terms keep the step cheap and the identifier small (f32: under 3 KiB).
+pub type FlightIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+>;
+
+/// [`FlightIdentifier`]'s terms with one rule per model (local learning of one rule is the
+/// global one, bit for bit): the baseline that shows what the rules themselves add.
+pub type FlightPlainIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+>;
+
+/// The default forward-speed sets of [`FlightIdentifier`] (m/s): a left shoulder at hover
+/// (c = 0, σ = 2.5; it also takes backward flight), a Gaussian at 5 m/s (σ = 2.5) and a right
+/// shoulder from 10 m/s (σ = 2.5): a miniature helicopter's low-speed envelope in three
+/// regions that overlap at about μ = 0.6. For another aircraft or envelope, place them from a
+/// training flight with [`crate::premise::quantile_sets`] (`rotorid identify` does).
+pub fn flight_sets<T: Real>() -> PremiseSets<T> {
+    table3::three_sets((0.0, 2.5), (5.0, 2.5), (10.0, 2.5))
+}
+
+/// A translational model learnt globally (the paper's RLS over `N = R·D` parameters, `NP`
+/// packed covariance entries).
+pub type GlobalVelocityModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
+    VelocityModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
+/// An angular model learnt globally.
+pub type GlobalRateModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
+    RateModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
+/// A translational model learnt locally (each of the `R` rules its own RLS of `DP = D(D+1)/2`
+/// packed covariance entries).
+pub type LocalVelocityModel<T, const R: usize, const D: usize, const DP: usize> =
+    VelocityModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
+/// An angular model learnt locally.
+pub type LocalRateModel<T, const R: usize, const D: usize, const DP: usize> =
+    RateModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
 
 /// [`HoverConfig`] less the RLS settings, which each model keeps (not stored twice: the
 /// identifier's `size_of` is held to 11 KiB).
@@ -187,6 +281,9 @@ struct Timing {
     sample_period_us: u32,
     period_tolerance_us: u32,
     scaling: RegressorScaling,
+    /// Samples of the current chain the identifier knows: 0 (none), 1 (`chain.sample`) or 2
+    /// (also `chain.before`).
+    links: u8,
 }
 
 impl Timing {
@@ -195,28 +292,40 @@ impl Timing {
             sample_period_us: config.sample_period_us,
             period_tolerance_us: config.period_tolerance_us,
             scaling: config.scaling,
+            links: 0,
         }
     }
 }
 
-/// Builds the four models of an identifier from rule bases and structures.
+/// The premises of the four models (translational, q̂, r̂, p̂).
+#[derive(Copy, Clone)]
+struct Premises {
+    velocity: Premise,
+    rates: Premise,
+}
+
+impl Premises {
+    /// The paper's: `v^s` for the velocity, `[q r p]` for the rates.
+    const PAPER: Self = Self {
+        velocity: Premise::Velocity,
+        rates: Premise::Rates,
+    };
+}
+
+/// Builds the four models of an identifier from rule bases, structures and premises.
 #[allow(clippy::type_complexity)]
 fn build<
     T: Real,
     const RV: usize,
     const DV: usize,
-    const NV: usize,
-    const PV: usize,
     const RQ: usize,
     const RR: usize,
     const RP: usize,
     const DA: usize,
-    const NQ: usize,
-    const PQ: usize,
-    const NR: usize,
-    const PR: usize,
-    const NP: usize,
-    const PP: usize,
+    EV: TsEstimator<T, 3, RV, DV>,
+    EQ: TsEstimator<T, 3, RQ, DA>,
+    ER: TsEstimator<T, 3, RR, DA>,
+    EP: TsEstimator<T, 3, RP, DA>,
 >(
     config: HoverConfig<T>,
     rules: (
@@ -227,34 +336,36 @@ fn build<
     ),
     velocity: VelocityStructure,
     rate: RateStructure,
+    premises: Premises,
 ) -> Result<
     HoverIdentifier<
         T,
-        VelocityModel<T, RV, DV, NV, PV>,
-        RateModel<T, RQ, DA, NQ, PQ>,
-        RateModel<T, RR, DA, NR, PR>,
-        RateModel<T, RP, DA, NP, PP>,
+        VelocityModel<T, RV, DV, EV>,
+        RateModel<T, RQ, DA, EQ>,
+        RateModel<T, RR, DA, ER>,
+        RateModel<T, RP, DA, EP>,
     >,
     Error,
 > {
     let c = config.rls;
     let rs = config.rate_scaling::<DA>(rate);
     let vs = config.velocity_scaling::<DV>(velocity);
+    let (pv, pr) = (premises.velocity, premises.rates);
     // Everything is checked first; then the identifier is built as one expression from
     // inlined infallible constructors, so the compiler writes the ~11 KB of arrays straight
     // into the result instead of moving models through the stack.
     config.validate()?;
-    VelocityModel::<T, RV, DV, NV, PV>::check_new(velocity, &c, &vs)?;
-    RateModel::<T, RQ, DA, NQ, PQ>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RR, DA, NR, PR>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RP, DA, NP, PP>::check_new(rate, &c, &rs)?;
+    VelocityModel::<T, RV, DV, EV>::check_new(velocity, &c, &vs)?;
+    RateModel::<T, RQ, DA, EQ>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RR, DA, ER>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RP, DA, EP>::check_new(rate, &c, &rs)?;
     Ok(HoverIdentifier {
-        velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, c, vs),
-        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, c, rs),
-        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, c, rs),
-        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, c, rs),
+        velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, pv, c, vs),
+        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rs),
+        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rs),
+        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rs),
         timing: Timing::of(&config),
-        previous: None,
+        chain: Chain::empty(),
     })
 }
 
@@ -272,6 +383,7 @@ impl<T: Real> PaperFuzzyIdentifier<T> {
             rules,
             VelocityStructure::Paper,
             RateStructure::Paper,
+            Premises::PAPER,
         )
     }
 }
@@ -286,6 +398,7 @@ impl<T: Real> PaperPlainIdentifier<T> {
             rules,
             VelocityStructure::Paper,
             RateStructure::Paper,
+            Premises::PAPER,
         )
     }
 }
@@ -304,6 +417,7 @@ impl<T: Real> ExtendedFuzzyIdentifier<T> {
             rules,
             VelocityStructure::Extended,
             RateStructure::Extended,
+            Premises::PAPER,
         )
     }
 }
@@ -318,6 +432,81 @@ impl<T: Real> ExtendedPlainIdentifier<T> {
             rules,
             VelocityStructure::Extended,
             RateStructure::Extended,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> PaperLocalIdentifier<T> {
+    /// The paper's structure and sets, learnt locally.
+    pub fn paper_local(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> ExtendedLocalIdentifier<T> {
+    /// The extended structure with [`ExtendedFuzzyIdentifier`]'s sets, learnt locally.
+    pub fn extended_local(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::vertical_velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> FlightIdentifier<T> {
+    /// The flight identifier with the given forward-speed sets (m/s; three sets, e.g. from
+    /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models.
+    pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
+        let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
+        let rules = (base()?, base()?, base()?, base()?);
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Flight,
+            Premises {
+                velocity: Premise::HeadingVelocity,
+                rates: Premise::HeadingVelocity,
+            },
+        )
+    }
+}
+
+impl<T: Real> FlightPlainIdentifier<T> {
+    /// [`FlightIdentifier`]'s terms and premise with a single rule per model.
+    pub fn flight_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let one = || RuleBase::single_rule();
+        build(
+            config,
+            (one()?, one()?, one()?, one()?),
+            VelocityStructure::Extended,
+            RateStructure::Flight,
+            Premises {
+                velocity: Premise::HeadingVelocity,
+                rates: Premise::HeadingVelocity,
+            },
         )
     }
 }
@@ -347,7 +536,7 @@ where
             yaw,
             roll,
             timing: Timing::of(&config),
-            previous: None,
+            chain: Chain::empty(),
         })
     }
 
@@ -386,7 +575,7 @@ where
 
     /// The sample the next step will learn from, if any.
     pub fn previous_sample(&self) -> Option<&HoverSample<T>> {
-        self.previous.as_ref().map(|(s, _)| s)
+        (self.timing.links > 0).then_some(&self.chain.sample)
     }
 
     /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
@@ -399,47 +588,86 @@ where
     pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
-        if let Some((prev, frame)) = &self.previous {
+        let mut before = sample.rates;
+        if self.timing.links > 0 {
+            let Chain {
+                sample: prev,
+                frame,
+                before: earlier,
+            } = &self.chain;
             self.check_interval(prev, sample)?;
+            let b = if self.timing.links > 1 {
+                earlier
+            } else {
+                &prev.rates
+            };
             // Check all four models before changing any.
-            let v = self.velocity.prepare_in(prev, frame, sample)?;
-            let q = self.pitch.prepare_in(prev, frame, sample)?;
-            let r = self.yaw.prepare_in(prev, frame, sample)?;
-            let p = self.roll.prepare_in(prev, frame, sample)?;
+            let v = self.velocity.prepare_in(prev, frame, b, sample)?;
+            let q = self.pitch.prepare_in(prev, frame, b, sample)?;
+            let r = self.yaw.prepare_in(prev, frame, b, sample)?;
+            let p = self.roll.prepare_in(prev, frame, b, sample)?;
             let mut inn = HoverState::default();
             self.velocity.apply(&v, &mut inn);
             self.pitch.apply(&q, &mut inn);
             self.yaw.apply(&r, &mut inn);
             self.roll.apply(&p, &mut inn);
             innovation = Some(inn);
+            before = prev.rates;
         }
         let frame = BodyFrame::of(&sample.attitude);
-        self.previous = Some((*sample, frame));
+        self.chain = Chain {
+            sample: *sample,
+            frame,
+            before,
+        };
+        self.timing.links = if self.timing.links > 0 { 2 } else { 1 };
         // Cannot fail: the sample passed SampleLimits, which bounds every regressor.
-        let prediction = self.predict_in(sample, &frame)?;
+        let prediction = self.predict_in(sample, &frame, &before)?;
         Ok(StepOutput {
             prediction,
             innovation,
         })
     }
 
-    /// One-step prediction of the state after `sample`, with the current parameters; changes
-    /// nothing (use it to verify a frozen model or to simulate it forward).
+    /// One-step prediction of the state after `sample`, with the current parameters, as the
+    /// first sample of a chain (a second-order term sees no earlier sample); changes nothing.
+    /// To verify a frozen model or simulate it forward, use
+    /// [`predict_after`](Self::predict_after).
     pub fn predict(&self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
+        self.predict_after(None, sample)
+    }
+
+    /// One-step prediction of the state after `sample`, given the state of the sample before
+    /// it (`before`: measured, or the model's own estimate in a simulation; `None` at the
+    /// start of a chain). Only second-order terms ([`RateStructure::Flight`]) read it.
+    /// Changes nothing.
+    pub fn predict_after(
+        &self,
+        before: Option<&HoverState<T>>,
+        sample: &HoverSample<T>,
+    ) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
-        self.predict_in(sample, &BodyFrame::of(&sample.attitude))
+        let before = match before {
+            Some(b) => {
+                SampleLimits::check_rates(&b.rates)?;
+                b.rates
+            }
+            None => sample.rates,
+        };
+        self.predict_in(sample, &BodyFrame::of(&sample.attitude), &before)
     }
 
     fn predict_in(
         &self,
         sample: &HoverSample<T>,
         frame: &BodyFrame<T>,
+        before: &[T; 3],
     ) -> Result<HoverState<T>, Error> {
         let mut next = HoverState::default();
-        self.velocity.predict_in(sample, frame, &mut next)?;
-        self.pitch.predict_in(sample, frame, &mut next)?;
-        self.yaw.predict_in(sample, frame, &mut next)?;
-        self.roll.predict_in(sample, frame, &mut next)?;
+        self.velocity.predict_in(sample, frame, before, &mut next)?;
+        self.pitch.predict_in(sample, frame, before, &mut next)?;
+        self.yaw.predict_in(sample, frame, before, &mut next)?;
+        self.roll.predict_in(sample, frame, before, &mut next)?;
         Ok(next)
     }
 
@@ -448,8 +676,13 @@ where
     pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
         let frame = BodyFrame::of(&sample.attitude);
-        let prediction = self.predict_in(sample, &frame)?;
-        self.previous = Some((*sample, frame));
+        let prediction = self.predict_in(sample, &frame, &sample.rates)?;
+        self.chain = Chain {
+            sample: *sample,
+            frame,
+            before: sample.rates,
+        };
+        self.timing.links = 1;
         Ok(prediction)
     }
 
@@ -459,7 +692,7 @@ where
         self.pitch.reset();
         self.yaw.reset();
         self.roll.reset();
-        self.previous = None;
+        self.end_chain_in_place();
     }
 
     /// Everything learnt, for a warm start on the next flight.
@@ -486,7 +719,7 @@ where
         self.pitch.import(&snapshot.pitch)?;
         self.yaw.import(&snapshot.yaw)?;
         self.roll.import(&snapshot.roll)?;
-        self.previous = None;
+        self.end_chain_in_place();
         Ok(())
     }
 
@@ -494,7 +727,13 @@ where
     /// [`import`](Self::import). A firmware that imports one model at a time (through
     /// [`velocity_model_mut`](Self::velocity_model_mut) etc.) calls it once it starts.
     pub fn end_chain(&mut self) {
-        self.previous = None;
+        self.end_chain_in_place();
+    }
+
+    /// Forgets the chain (cleared too, so that an identifier compares equal to a fresh one).
+    fn end_chain_in_place(&mut self) {
+        self.chain = Chain::empty();
+        self.timing.links = 0;
     }
 
     /// Mutable access to the translational model, for importing one model at a time (a
@@ -531,7 +770,7 @@ where
         self.yaw.reconfigure(&config)?;
         self.roll.reconfigure(&config)?;
         self.timing = Timing::of(&config);
-        self.previous = None;
+        self.end_chain_in_place();
         Ok(())
     }
 

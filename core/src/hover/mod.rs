@@ -21,11 +21,13 @@ mod sample;
 pub mod table3;
 
 pub use identifier::{
-    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier, HoverSnapshot,
-    PaperFuzzyIdentifier, PaperPlainIdentifier, RegressorScaling, StepOutput,
+    flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, HoverConfig,
+    HoverIdentifier, HoverSnapshot, LocalRateModel, LocalVelocityModel, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier, RegressorScaling, StepOutput,
 };
 pub use models::{
-    right_axis, rotor_axis, BodyFrame, RateAxis, RateModel, RateStructure, StateModel,
+    right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
     VelocityModel, VelocityStructure,
 };
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};

@@ -3,10 +3,11 @@
 
 use crate::error::{ConfigError, Error};
 use crate::hover::sample::{Attitude, HoverSample, HoverState};
-use crate::rls::{RlsConfig, RlsState};
+use crate::learning::{Learning, TsEstimator};
+use crate::rls::RlsConfig;
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
-use crate::ts::{Prepared, Scaling, TsRls};
+use crate::ts::{Prepared, Scaling};
 
 /// What a [`HoverIdentifier`](crate::hover::HoverIdentifier) needs of each of its models.
 ///
@@ -39,25 +40,31 @@ pub trait StateModel<T: Real> {
     fn rls_config(&self) -> &RlsConfig<T>;
 
     /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
-    /// keeps it from the previous step). Same result.
+    /// keeps it from the previous step) and the body rates `[q r p]` of the sample before
+    /// `from` (`before`; `from`'s own rates when there is none), for structures with a
+    /// second-order term ([`RateStructure::Flight`]). [`prepare`](Self::prepare) is this with
+    /// `before = from.rates`.
     fn prepare_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
+        before: &[T; 3],
         to: &HoverSample<T>,
     ) -> Result<Self::Prepared, Error> {
-        let _ = from_frame;
+        let _ = (from_frame, before);
         self.prepare(from, to)
     }
 
-    /// [`predict`](Self::predict) with `from`'s body frame already computed. Same result.
+    /// [`predict`](Self::predict) with `from`'s body frame already computed and the rates of
+    /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
     fn predict_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
+        before: &[T; 3],
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
-        let _ = from_frame;
+        let _ = (from_frame, before);
         self.predict(from, next)
     }
 }
@@ -148,6 +155,20 @@ impl<T: Real> BodyFrame<T> {
         }
     }
 
+    /// The frame of zero roll, pitch and yaw (no trigonometry).
+    #[inline]
+    pub fn identity() -> Self {
+        let (zero, one) = (T::zero(), T::one());
+        Self {
+            sf: zero,
+            cf: one,
+            st: zero,
+            ct: one,
+            sp: zero,
+            cp: one,
+        }
+    }
+
     /// [`rotor_axis`] of this attitude.
     #[inline]
     pub fn rotor_axis(&self) -> [T; 3] {
@@ -189,15 +210,53 @@ pub fn right_axis<T: Real>(roll: T, pitch: T, yaw: T) -> [T; 3] {
     BodyFrame::new(roll, pitch, yaw).right_axis()
 }
 
-/// Translational model (Eq. 27): premise `v^s(k)`, three outputs `v_x, v_y, v_z` sharing θ.
-#[derive(Clone, Debug, PartialEq)]
-pub struct VelocityModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> {
-    ts: TsRls<T, 3, R, D, N, NP>,
-    structure: VelocityStructure,
+/// The premise variables a model's rules are scheduled on.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Premise {
+    /// The paper's choice for Eq. 27: the inertial velocity `v^s = [v_x v_y v_z]` (m/s).
+    Velocity,
+    /// The paper's choice for Eqs. 28–30: the body rates `[q r p]` (deg/s).
+    Rates,
+    /// The velocity in the heading frame, `[forward, right, up]` (m/s): `v^s` turned by the
+    /// yaw ψ (ground speed, which is airspeed in still air). A helicopter's dynamics change
+    /// with airspeed (speed stability, the fin's and the stabiliser's damping, translational
+    /// lift, the tail rotor's effectiveness), and they do so in the aircraft's own axes; the
+    /// inertial velocity would split one physical regime over several headings.
+    HeadingVelocity,
 }
 
-impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
-    VelocityModel<T, R, D, N, NP>
+impl Premise {
+    /// The premise vector of sample `s` (whose body frame is `frame`).
+    #[inline]
+    pub fn of<T: Real>(self, s: &HoverSample<T>, frame: &BodyFrame<T>) -> [T; 3] {
+        match self {
+            Self::Velocity => s.velocity,
+            Self::Rates => s.rates,
+            Self::HeadingVelocity => {
+                // Paper axes: x east, y up, z south; ψ from north towards east.
+                let [x, y, z] = s.velocity;
+                let (sp, cp) = (frame.sp, frame.cp);
+                [x * sp - z * cp, x * cp + z * sp, y]
+            }
+        }
+    }
+}
+
+/// Translational model (Eq. 27): premise `v^s(k)` (or see [`Premise`]), three outputs
+/// `v_x, v_y, v_z` sharing θ, learnt by the TS estimator `E` (global or local, see
+/// [`Learning`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VelocityModel<T, const R: usize, const D: usize, E> {
+    ts: E,
+    structure: VelocityStructure,
+    premise: Premise,
+    _scalar: core::marker::PhantomData<T>,
+}
+
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
+    VelocityModel<T, R, D, E>
 {
     /// A model over the given rule base (premise `[v_x v_y v_z]`, m/s), unscaled.
     pub fn new(
@@ -205,19 +264,21 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         structure: VelocityStructure,
         config: RlsConfig<T>,
     ) -> Result<Self, Error> {
-        Self::with_scaling(rules, structure, config, Scaling::unit())
+        Self::with_scaling(rules, structure, Premise::Velocity, config, Scaling::unit())
     }
 
-    /// A model whose terms and target are divided by nominal scales (see [`Scaling`]).
+    /// A model over the given premise whose terms and target are divided by nominal scales
+    /// (see [`Scaling`]).
     pub fn with_scaling(
         rules: RuleBase<T, 3, R>,
         structure: VelocityStructure,
+        premise: Premise,
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Result<Self, Error> {
         Self::check_new(structure, &config, &scaling)?;
         Ok(Self::with_scaling_unchecked(
-            rules, structure, config, scaling,
+            rules, structure, premise, config, scaling,
         ))
     }
 
@@ -227,19 +288,22 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         scaling: &Scaling<T, D>,
     ) -> Result<(), Error> {
         check_terms(structure.terms(), D)?;
-        TsRls::<T, 3, R, D, N, NP>::check_new(config, scaling)
+        E::check_new(config, scaling)
     }
 
     #[inline(always)]
     pub(crate) fn with_scaling_unchecked(
         rules: RuleBase<T, 3, R>,
         structure: VelocityStructure,
+        premise: Premise,
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Self {
         Self {
-            ts: TsRls::with_scaling_unchecked(rules, config, scaling),
+            ts: E::build(rules, config, scaling),
             structure,
+            premise,
+            _scalar: core::marker::PhantomData,
         }
     }
 
@@ -248,8 +312,18 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         self.structure
     }
 
+    /// The premise variables.
+    pub fn premise(&self) -> Premise {
+        self.premise
+    }
+
+    /// How the consequents are learnt.
+    pub fn learning(&self) -> Learning {
+        E::LEARNING
+    }
+
     /// The underlying TS model (rule base, parameters, covariance).
-    pub fn ts(&self) -> &TsRls<T, 3, R, D, N, NP> {
+    pub fn ts(&self) -> &E {
         &self.ts
     }
 
@@ -294,26 +368,27 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
     }
 }
 
-impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> StateModel<T>
-    for VelocityModel<T, R, D, N, NP>
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+    for VelocityModel<T, R, D, E>
 {
     type Prepared = Prepared<T, R, D, 3>;
-    type State = RlsState<T, N, NP>;
+    type State = E::State;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
-        self.prepare_in(from, &BodyFrame::of(&from.attitude), to)
+        self.prepare_in(from, &BodyFrame::of(&from.attitude), &from.rates, to)
     }
 
     fn prepare_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
+        _before: &[T; 3],
         to: &HoverSample<T>,
     ) -> Result<Self::Prepared, Error> {
         let [x0, y0, z0] = from.velocity;
         let [x1, y1, z1] = to.velocity;
         self.ts.prepare(
-            &from.velocity,
+            &self.premise.of(from, from_frame),
             &self.terms_in(from, from_frame),
             &[x1 - x0, y1 - y0, z1 - z0],
         )
@@ -323,11 +398,13 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
+        _before: &[T; 3],
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
-        let increments = self
-            .ts
-            .predict_many(&from.velocity, &self.terms_in(from, from_frame))?;
+        let increments = self.ts.predict_many(
+            &self.premise.of(from, from_frame),
+            &self.terms_in(from, from_frame),
+        )?;
         let mut out = from.velocity;
         for (o, &d) in out.iter_mut().zip(increments.iter()) {
             *o += d;
@@ -342,7 +419,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
-        self.predict_in(from, &BodyFrame::of(&from.attitude), next)
+        self.predict_in(from, &BodyFrame::of(&from.attitude), &from.rates, next)
     }
 
     fn reset(&mut self) {
@@ -367,7 +444,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 
     fn rls_config(&self) -> &RlsConfig<T> {
-        self.ts.rls().config()
+        self.ts.config()
     }
 }
 
@@ -421,6 +498,23 @@ pub enum RateStructure {
     /// into the control gain; the main rotor's torque changes with collective, which drives
     /// yaw; the affine term absorbs trim moments. `D = 5`.
     Extended,
+    /// [`Extended`](Self::Extended) plus the speed-stability term of the model's own axis and
+    /// a second-order term: `[𝕀, γ, δ, β, c, κ, η]`, e.g.
+    /// `q̂(k+1) = q + … + κ u + η (q(k) − q(k−1))`.
+    ///
+    /// * `κ u` for q̂ (`M_u`: forward speed flaps the disc back and pitches the nose up) and
+    ///   `κ v` for r̂ and p̂ (`N_v`: the fin's weathercock moment; `L_v`: the disc's dihedral
+    ///   effect), `u`, `v` being the forward and rightward speed in the heading frame (m/s):
+    ///   the velocity derivatives of every linear helicopter model, and they grow with
+    ///   airspeed.
+    /// * `η Δω(k)`, the previous increment of the rate: the rotor's flapping and inflow are
+    ///   fast states that no sample records (flapping settles in ≈ 3 samples at 50 Hz), so
+    ///   the rate responds as a second-order system at the sample scale; an ARX model of order
+    ///   2 in the rate (as PX4's `ArxRls<2, …>`) accounts for them. It makes the rate models
+    ///   need the sample before: see [`StateModel::prepare_in`].
+    ///
+    /// `D = 7`.
+    Flight,
 }
 
 impl RateStructure {
@@ -429,16 +523,18 @@ impl RateStructure {
         match self {
             Self::Paper => 2,
             Self::Extended => 5,
+            Self::Flight => 7,
         }
     }
 
     /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): rate products
-    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, collective 0.5, constants 1;
-    /// target `Δω` 1 deg/s per step.
+    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, collective 0.5, constants 1,
+    /// speeds 5 m/s, rate increments 1 deg/s; target `Δω` 1 deg/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
         let nominal: &[f64] = match self {
             Self::Paper => &[100.0, 0.05],
             Self::Extended => &[100.0, 0.05, 10.0, 0.5, 1.0],
+            Self::Flight => &[100.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -451,17 +547,18 @@ impl RateStructure {
     }
 }
 
-/// An angular model (Eqs. 28–30): premise `[q r p](k)` (deg/s), one output.
+/// An angular model (Eqs. 28–30): premise `[q r p](k)` (deg/s; or see [`Premise`]), one
+/// output, learnt by the TS estimator `E` (global or local, see [`Learning`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct RateModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> {
-    ts: TsRls<T, 3, R, D, N, NP>,
+pub struct RateModel<T, const R: usize, const D: usize, E> {
+    ts: E,
     axis: RateAxis,
     structure: RateStructure,
+    premise: Premise,
+    _scalar: core::marker::PhantomData<T>,
 }
 
-impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
-    RateModel<T, R, D, N, NP>
-{
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateModel<T, R, D, E> {
     /// A model of one body rate over the given rule base (premise `[q r p]`, deg/s), unscaled.
     pub fn new(
         axis: RateAxis,
@@ -469,20 +566,29 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         structure: RateStructure,
         config: RlsConfig<T>,
     ) -> Result<Self, Error> {
-        Self::with_scaling(axis, rules, structure, config, Scaling::unit())
+        Self::with_scaling(
+            axis,
+            rules,
+            structure,
+            Premise::Rates,
+            config,
+            Scaling::unit(),
+        )
     }
 
-    /// A model whose terms and target are divided by nominal scales (see [`Scaling`]).
+    /// A model over the given premise whose terms and target are divided by nominal scales
+    /// (see [`Scaling`]).
     pub fn with_scaling(
         axis: RateAxis,
         rules: RuleBase<T, 3, R>,
         structure: RateStructure,
+        premise: Premise,
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Result<Self, Error> {
         Self::check_new(structure, &config, &scaling)?;
         Ok(Self::with_scaling_unchecked(
-            axis, rules, structure, config, scaling,
+            axis, rules, structure, premise, config, scaling,
         ))
     }
 
@@ -492,7 +598,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         scaling: &Scaling<T, D>,
     ) -> Result<(), Error> {
         check_terms(structure.terms(), D)?;
-        TsRls::<T, 3, R, D, N, NP>::check_new(config, scaling)
+        E::check_new(config, scaling)
     }
 
     #[inline(always)]
@@ -500,13 +606,16 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         axis: RateAxis,
         rules: RuleBase<T, 3, R>,
         structure: RateStructure,
+        premise: Premise,
         config: RlsConfig<T>,
         scaling: Scaling<T, D>,
     ) -> Self {
         Self {
-            ts: TsRls::with_scaling_unchecked(rules, config, scaling),
+            ts: E::build(rules, config, scaling),
             axis,
             structure,
+            premise,
+            _scalar: core::marker::PhantomData,
         }
     }
 
@@ -515,8 +624,18 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         self.structure
     }
 
+    /// The premise variables.
+    pub fn premise(&self) -> Premise {
+        self.premise
+    }
+
+    /// How the consequents are learnt.
+    pub fn learning(&self) -> Learning {
+        E::LEARNING
+    }
+
     /// The underlying TS model (rule base, parameters, covariance).
-    pub fn ts(&self) -> &TsRls<T, 3, R, D, N, NP> {
+    pub fn ts(&self) -> &E {
         &self.ts
     }
 
@@ -525,8 +644,15 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
         self.axis
     }
 
-    /// The consequent terms `Δ` at sample k.
+    /// The consequent terms `Δ` at sample k (with no sample before it: a second-order term
+    /// is 0).
     pub fn terms(&self, s: &HoverSample<T>) -> [T; D] {
+        self.terms_in(s, &self.frame_for(s), &s.rates)
+    }
+
+    /// [`terms`](Self::terms) with the sample's body frame already computed and the rates
+    /// `[q r p]` of the sample before (deg/s).
+    pub fn terms_in(&self, s: &HoverSample<T>, frame: &BodyFrame<T>, before: &[T; 3]) -> [T; D] {
         let [q, r, p] = s.rates;
         let u = &s.controls;
         let [cross, control] = match self.axis {
@@ -534,7 +660,30 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
             RateAxis::Yaw => [q * p, u.ped],
             RateAxis::Roll => [q * r, u.lat * u.col],
         };
-        let all = [cross, control, self.rate(s), u.col, T::one()];
+        let (speed, increment) = match self.structure {
+            RateStructure::Flight => {
+                let [forward, right, _] = Premise::HeadingVelocity.of(s, frame);
+                let speed = match self.axis {
+                    RateAxis::Pitch => forward,
+                    RateAxis::Yaw | RateAxis::Roll => right,
+                };
+                let earlier = before.get(self.axis.index()).copied();
+                (
+                    speed,
+                    self.rate(s) - earlier.unwrap_or_else(|| self.rate(s)),
+                )
+            }
+            _ => (T::zero(), T::zero()),
+        };
+        let all = [
+            cross,
+            control,
+            self.rate(s),
+            u.col,
+            T::one(),
+            speed,
+            increment,
+        ];
         let used = self.structure.terms();
         let mut terms = [T::zero(); D];
         for (t, &x) in terms.iter_mut().zip(all.iter().take(used)) {
@@ -549,20 +698,58 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
             .copied()
             .unwrap_or_else(T::zero)
     }
+
+    /// The body frame, computed only for a premise or structure that needs it (the paper's
+    /// do not: their step stays free of trigonometry when called without a frame).
+    fn frame_for(&self, s: &HoverSample<T>) -> BodyFrame<T> {
+        match (self.premise, self.structure) {
+            (Premise::HeadingVelocity, _) | (_, RateStructure::Flight) => {
+                BodyFrame::of(&s.attitude)
+            }
+            _ => BodyFrame::identity(),
+        }
+    }
 }
 
-impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> StateModel<T>
-    for RateModel<T, R, D, N, NP>
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+    for RateModel<T, R, D, E>
 {
     type Prepared = Prepared<T, R, D, 1>;
-    type State = RlsState<T, N, NP>;
+    type State = E::State;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
+        self.prepare_in(from, &self.frame_for(from), &from.rates, to)
+    }
+
+    fn prepare_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        to: &HoverSample<T>,
+    ) -> Result<Self::Prepared, Error> {
         self.ts.prepare(
-            &from.rates,
-            &[self.terms(from)],
+            &self.premise.of(from, from_frame),
+            &[self.terms_in(from, from_frame, before)],
             &[self.rate(to) - self.rate(from)],
         )
+    }
+
+    fn predict_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let [increment] = self.ts.predict_many(
+            &self.premise.of(from, from_frame),
+            &[self.terms_in(from, from_frame, before)],
+        )?;
+        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
+            *slot = self.rate(from) + increment;
+        }
+        Ok(())
     }
 
     fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
@@ -574,11 +761,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
-        let increment = self.ts.predict(&from.rates, &self.terms(from))?;
-        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
-            *slot = self.rate(from) + increment;
-        }
-        Ok(())
+        self.predict_in(from, &self.frame_for(from), &from.rates, next)
     }
 
     fn reset(&mut self) {
@@ -603,6 +786,6 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> S
     }
 
     fn rls_config(&self) -> &RlsConfig<T> {
-        self.ts.rls().config()
+        self.ts.config()
     }
 }

@@ -105,6 +105,14 @@ impl SampleLimits {
     /// Each |u_i| ≤ 1.
     pub const CONTROL: f64 = 1.0;
 
+    /// Checks body rates `[q r p]` (deg/s) against [`RATE`](Self::RATE).
+    pub fn check_rates<T: Real>(rates: &[T; 3]) -> Result<(), Error> {
+        for (i, &w) in rates.iter().enumerate() {
+            check(w, Self::RATE, Quantity::Rate(i as u8))?;
+        }
+        Ok(())
+    }
+
     /// Checks every field of a sample: `NonFinite` for NaN/±∞, `OutOfRange` beyond the limits.
     pub fn check<T: Real>(s: &HoverSample<T>) -> Result<(), Error> {
         let a = &s.attitude;
@@ -114,9 +122,7 @@ impl SampleLimits {
         for (i, &v) in s.velocity.iter().enumerate() {
             check(v, Self::VELOCITY, Quantity::Velocity(i as u8))?;
         }
-        for (i, &w) in s.rates.iter().enumerate() {
-            check(w, Self::RATE, Quantity::Rate(i as u8))?;
-        }
+        Self::check_rates(&s.rates)?;
         for (i, u) in s.controls.to_array().into_iter().enumerate() {
             check(u, Self::CONTROL, Quantity::Control(i as u8))?;
         }

@@ -872,7 +872,7 @@ impl<'a> ParamsChunk<'a> {
 
     /// Writes the payload.
     pub fn write(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
-        if self.words.len() % 4 != 0 || self.words.len() / 4 > Self::MAX_WORDS {
+        if !self.words.len().is_multiple_of(4) || self.words.len() / 4 > Self::MAX_WORDS {
             return Err(PayloadError::InvalidValue);
         }
         w.put_u8(self.ident as u8)?;
@@ -898,7 +898,7 @@ impl<'a> ParamsChunk<'a> {
         let total = r.get_u16()?;
         let words = r.rest();
         let n = words.len() / 4;
-        if model > 3 || words.len() % 4 != 0 || usize::from(index) + n > usize::from(total) {
+        if model > 3 || !words.len().is_multiple_of(4) || usize::from(index) + n > usize::from(total) {
             return Err(PayloadError::InvalidValue);
         }
         Ok(Self {

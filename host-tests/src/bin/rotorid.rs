@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use host_tests::envelope::{self, EnvelopeKind};
 use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
 use host_tests::log;
 use host_tests::plant::{simulate, verification_excitation, FlightConfig};
@@ -34,6 +35,11 @@ enum Kind {
     Identification,
     /// Doublets and 3-2-1-1 multisteps on all controls between hover periods.
     Verification,
+    /// Wide envelope: 12 operating points from hover to 12 m/s forward, ±5 m/s sideways,
+    /// ±3 m/s vertical, with doublets and multisteps throughout (300 s).
+    Envelope,
+    /// The held-out envelope flight: 8 other operating points (200 s); use another seed.
+    EnvelopeVerification,
 }
 
 #[derive(Subcommand)]
@@ -175,6 +181,21 @@ fn run_simulate(
                 FlightConfig::realistic(seed, d)
             };
             simulate(&config, &mut verification_excitation(seed, d))
+        }
+        (Kind::Envelope | Kind::EnvelopeVerification, clean) => {
+            let kind = match kind {
+                Kind::Envelope => EnvelopeKind::Identification,
+                _ => EnvelopeKind::Verification,
+            };
+            if duration.is_some() {
+                return Err("--duration does not apply to envelope flights (their length is their schedule's)".into());
+            }
+            let config = if clean {
+                clean_config(seed)
+            } else {
+                FlightConfig::realistic(seed, 0.0)
+            };
+            envelope::envelope_flight_with(&config, kind)
         }
     }
     .map_err(|e| format!("simulation: {e}"))?;

@@ -82,6 +82,12 @@ pub struct HoverPilot {
     heading_ref: f64,
     /// Altitude reference as NED down position (m).
     down_ref: f64,
+    /// Velocity set-point in the heading frame `[forward, right, down]` (m/s); zero holds
+    /// hover. A non-zero down speed lets the altitude reference follow the aircraft.
+    pub velocity_ref: [f64; 3],
+    /// Trim offsets found by an outer loop (e.g. [`crate::envelope`]'s integrators) for flight
+    /// away from hover: `[pitch (rad), roll (rad), collective (stick)]`, zero at hover.
+    pub offsets: [f64; 3],
 }
 
 /// Wraps an angle to (−π, π].
@@ -103,6 +109,8 @@ impl HoverPilot {
             gains,
             heading_ref: yaw,
             down_ref: state.pos_ned.z,
+            velocity_ref: [0.0; 3],
+            offsets: [0.0; 3],
         }
     }
 
@@ -121,21 +129,28 @@ impl HoverPilot {
         let v = state.vel_ned();
         let w = state.omega;
         let (sy, cy) = yaw.sin_cos();
-        let v_fwd = cy * v.x + sy * v.y;
-        let v_right = -sy * v.x + cy * v.y;
+        let v_fwd = cy * v.x + sy * v.y - self.velocity_ref[0];
+        let v_right = -sy * v.x + cy * v.y - self.velocity_ref[1];
+        let v_down = v.z - self.velocity_ref[2];
 
         if excited == Some(Channel::Ped) {
             self.heading_ref = yaw;
         }
-        if excited == Some(Channel::Col) {
+        if excited == Some(Channel::Col) || self.velocity_ref[2] != 0.0 {
             self.down_ref = state.pos_ned.z;
         }
 
-        let pitch_ref = trim.pitch + (g.velocity * v_fwd).clamp(-g.max_tilt, g.max_tilt);
-        let roll_ref = trim.roll - (g.velocity * v_right).clamp(-g.max_tilt, g.max_tilt);
+        let [pitch_offset, roll_offset, col_offset] = self.offsets;
+        let pitch_ref =
+            trim.pitch + pitch_offset + (g.velocity * v_fwd).clamp(-g.max_tilt, g.max_tilt);
+        let roll_ref =
+            trim.roll + roll_offset - (g.velocity * v_right).clamp(-g.max_tilt, g.max_tilt);
         let t = &trim.sticks;
         let mut out = Sticks {
-            col: t.col + g.vertical_speed * v.z + g.altitude * (state.pos_ned.z - self.down_ref),
+            col: t.col
+                + col_offset
+                + g.vertical_speed * v_down
+                + g.altitude * (state.pos_ned.z - self.down_ref),
             ped: t.ped - g.yaw_rate * w.z - g.heading * wrap_pi(yaw - self.heading_ref),
             lon: t.lon - g.pitch_att * (pitch - pitch_ref) - g.pitch_rate * w.y,
             lat: t.lat - g.roll_att * (roll - roll_ref) - g.roll_rate * w.x,

@@ -1,0 +1,183 @@
+//! How a TS model learns its consequent parameters: the [`Learning`] value and the
+//! [`TsEstimator`] trait that the global ([`TsRls`]) and the local ([`LocalTsRls`]) estimator
+//! share, so that the helicopter models are written once over either.
+
+use crate::error::Error;
+use crate::local::{LocalState, LocalTsRls};
+use crate::rls::{RlsConfig, RlsState};
+use crate::rule_base::RuleBase;
+use crate::scalar::Real;
+use crate::ts::{Prepared, Scaling, TsRls};
+
+/// How the consequent parameters θ of a TS model are learnt.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Learning {
+    /// The paper's Section 4: one RLS over every rule's parameters, on the regressor
+    /// `Δ ⊗ ξ` ([`TsRls`]).
+    Global,
+    /// Each rule by its own RLS weighted by its firing strength ξ_i ([`LocalTsRls`]).
+    Local,
+}
+
+/// A TS model with RLS-learnt consequents over `V` premise variables, `R` rules and `D`
+/// consequent terms per rule. Sizes are const generics, so each [`Learning`] is its own type;
+/// [`TsEstimator::LEARNING`] says which.
+pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: Sized {
+    /// What [`export`](Self::export) returns and [`import`](Self::import) takes.
+    type State: Copy;
+    /// How this estimator learns.
+    const LEARNING: Learning;
+
+    /// The checks of [`build`](Self::build).
+    fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error>;
+    /// A fresh estimator (θ = 0, P = αI) from settings that passed
+    /// [`check_new`](Self::check_new).
+    fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self;
+    /// The rule base.
+    fn rules(&self) -> &RuleBase<T, V, R>;
+    /// The estimator settings.
+    fn config(&self) -> &RlsConfig<T>;
+    /// `α_{i,s}` of rule i, term s, in physical units.
+    fn physical_parameter(&self, rule: usize, term: usize) -> Option<T>;
+    /// Predictions of M outputs that share the premise (target unit).
+    fn predict_many<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error>;
+    /// Checks and computes an update without changing anything.
+    fn prepare<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+        targets: &[T; M],
+    ) -> Result<Prepared<T, R, D, M>, Error>;
+    /// Learns from a prepared update.
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>);
+    /// Back to θ = 0, P = αI.
+    fn reset(&mut self);
+    /// Everything learnt (scaled coordinates).
+    fn export(&self) -> Self::State;
+    /// Warm start. On `Err` nothing changed.
+    fn import(&mut self, state: &Self::State) -> Result<(), Error>;
+    /// The checks of [`import`](Self::import).
+    fn check_import(&self, state: &Self::State) -> Result<(), Error>;
+    /// New settings and scales, starting afresh. On `Err` nothing changed.
+    fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error>;
+}
+
+impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, const NP: usize>
+    TsEstimator<T, V, R, D> for TsRls<T, V, R, D, N, NP>
+{
+    type State = RlsState<T, N, NP>;
+    const LEARNING: Learning = Learning::Global;
+
+    fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
+        Self::check_new(config, scaling)
+    }
+    #[inline(always)]
+    fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self {
+        Self::with_scaling_unchecked(rules, config, scaling)
+    }
+    fn rules(&self) -> &RuleBase<T, V, R> {
+        self.rules()
+    }
+    fn config(&self) -> &RlsConfig<T> {
+        self.rls().config()
+    }
+    fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
+        self.physical_parameter(rule, term)
+    }
+    fn predict_many<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        self.predict_many(premise, terms)
+    }
+    fn prepare<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+        targets: &[T; M],
+    ) -> Result<Prepared<T, R, D, M>, Error> {
+        self.prepare(premise, terms, targets)
+    }
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        self.apply(prepared)
+    }
+    fn reset(&mut self) {
+        self.reset()
+    }
+    fn export(&self) -> Self::State {
+        self.export()
+    }
+    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
+        self.import(state)
+    }
+    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+        self.check_import(state)
+    }
+    fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
+        self.reconfigure(config, scaling)
+    }
+}
+
+impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
+    TsEstimator<T, V, R, D> for LocalTsRls<T, V, R, D, DP>
+{
+    type State = LocalState<T, R, D, DP>;
+    const LEARNING: Learning = Learning::Local;
+
+    fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
+        Self::check_new(config, scaling)
+    }
+    #[inline(always)]
+    fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self {
+        Self::with_scaling_unchecked(rules, config, scaling)
+    }
+    fn rules(&self) -> &RuleBase<T, V, R> {
+        self.rules()
+    }
+    fn config(&self) -> &RlsConfig<T> {
+        self.config()
+    }
+    fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
+        self.physical_parameter(rule, term)
+    }
+    fn predict_many<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        self.predict_many(premise, terms)
+    }
+    fn prepare<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+        targets: &[T; M],
+    ) -> Result<Prepared<T, R, D, M>, Error> {
+        self.prepare(premise, terms, targets)
+    }
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        self.apply(prepared)
+    }
+    fn reset(&mut self) {
+        self.reset()
+    }
+    fn export(&self) -> Self::State {
+        self.export()
+    }
+    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
+        self.import(state)
+    }
+    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+        self.check_import(state)
+    }
+    fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
+        self.reconfigure(config, scaling)
+    }
+}

@@ -1,0 +1,253 @@
+//! Local learning of a TS model: each rule's consequents by its own fuzzily weighted RLS.
+//!
+//! The paper (Section 4) learns all rules' parameters θ = [θ_1 … θ_R] with one RLS on the
+//! regressor `Δ ⊗ ξ`: the *global* error `y − Σ_i ξ_i Δᵀθ_i` is shared out over every rule
+//! that fired. That fits the sum well where the data are, but a rule that fires rarely (or
+//! only together with others) can take any value that the others compensate, and a free run
+//! that visits its region then goes wrong.
+//!
+//! Here every rule i keeps its own parameters θ_i (D terms) and its own covariance P_i
+//! (`D(D+1)/2` packed entries) and fits the data *locally*: it minimises
+//! `Σ_k λ^(…) ξ_i(k) (y(k) − Δ(k)ᵀθ_i)²`, the fuzzily weighted least squares of evolving TS
+//! systems (Angelov and Filev, eTS, 2004). One step of it is an ordinary RLS update with the
+//! regressor and target multiplied by `√ξ_i`, so each rule reuses [`Rls`] as it is. The model
+//! still predicts `ŷ = Σ_i ξ_i Δᵀθ_i`. Each θ_i is then the best linear model of the data
+//! weighted by how much rule i describes them: a local linearisation, meaningful on its own.
+//!
+//! * **Forgetting** only where data arrive: rule i forgets with `λ_i = 1 − (1 − λ) ξ_i`, so a
+//!   rule that does not fire keeps its covariance (no windup in regions the flight has left).
+//!   The trace bound of [`RlsConfig::max_trace`] holds per rule.
+//! * **Rules too weak to matter** (`ξ_i` < [`MIN_LOCAL_STRENGTH`]) are not updated: their
+//!   weighted update would move θ_i by less than a thousandth of a full one, and skipping them
+//!   bounds the cost of a step by the rules that describe the sample.
+//! * **One rule** (ξ = 1): `√1 = 1`, `λ_1 = λ`, and the update is the global model's, bit for
+//!   bit (a test checks it).
+//!
+//! Cost: one D-parameter update per rule that fires (`O(R_fired · D²)`) instead of one
+//! `R·D`-parameter update (`O(R² D²)`); memory `R·(D + D(D+1)/2)` instead of
+//! `R·D + R·D(R·D+1)/2`.
+
+use crate::error::{ConfigError, Error, Quantity};
+use crate::rls::{Everything, Rls, RlsConfig, RlsState, TARGET_LIMIT};
+use crate::rule_base::RuleBase;
+use crate::scalar::{within, Real};
+use crate::ts::{combine, prepare_rows, scaled_terms, Prepared, Scaling};
+
+/// Rules with a normalised firing strength below this learn nothing from a sample (see the
+/// [module docs](self)).
+pub const MIN_LOCAL_STRENGTH: f64 = 1e-3;
+
+/// A TS model over `V` premise variables and `R` rules of `D` consequent terms, each rule with
+/// its own RLS of `DP = D(D+1)/2` packed covariance entries (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LocalTsRls<T, const V: usize, const R: usize, const D: usize, const DP: usize> {
+    rules: RuleBase<T, V, R>,
+    local: [Rls<T, D, DP>; R],
+    scaling: Scaling<T, D>,
+    /// The settings every rule's estimator has (kept here too so that reading them needs no
+    /// rule).
+    config: RlsConfig<T>,
+}
+
+/// Everything a [`LocalTsRls`] has learnt: each rule's θ_i and covariance factor, in rule
+/// order (scaled coordinates).
+pub type LocalState<T, const R: usize, const D: usize, const DP: usize> = [RlsState<T, D, DP>; R];
+
+impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
+    LocalTsRls<T, V, R, D, DP>
+{
+    const SIZES_OK: () = assert!(R >= 1 && D >= 1, "LocalTsRls needs R ≥ 1 and D ≥ 1");
+
+    /// A model with the given rule base, estimator settings (every rule: θ_i(0) = 0,
+    /// P_i(0) = αI) and scales.
+    pub fn with_scaling(
+        rules: RuleBase<T, V, R>,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<Self, Error> {
+        Self::check_new(&config, &scaling)?;
+        Ok(Self::with_scaling_unchecked(rules, config, scaling))
+    }
+
+    /// The checks of [`with_scaling`](Self::with_scaling).
+    pub(crate) fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::SIZES_OK;
+        if R > 32 {
+            return Err(ConfigError::Dimensions.into());
+        }
+        scaling.validate()?;
+        Rls::<T, D, DP>::check_new(config)
+    }
+
+    #[inline(always)]
+    pub(crate) fn with_scaling_unchecked(
+        rules: RuleBase<T, V, R>,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Self {
+        Self {
+            rules,
+            local: core::array::from_fn(|_| Rls::new_unchecked(config)),
+            scaling,
+            config,
+        }
+    }
+
+    /// The rule base.
+    pub fn rules(&self) -> &RuleBase<T, V, R> {
+        &self.rules
+    }
+
+    /// Rule i's estimator (θ_i, P_i, counters), `None` for i ≥ R.
+    pub fn rule(&self, i: usize) -> Option<&Rls<T, D, DP>> {
+        self.local.get(i)
+    }
+
+    /// The scales.
+    pub fn scaling(&self) -> &Scaling<T, D> {
+        &self.scaling
+    }
+
+    /// The estimator settings (every rule has the same).
+    pub fn config(&self) -> &RlsConfig<T> {
+        &self.config
+    }
+
+    /// `α_{i,s}` of rule i, term s, in physical units (target unit per term unit).
+    pub fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
+        let theta = self.local.get(rule)?.parameters().get(term).copied()?;
+        let scale = self.scaling.terms.get(term).copied()?;
+        Some(theta * self.scaling.target / scale)
+    }
+
+    /// `b_s = Σ_i ξ_i θ̃_{i,s}`: the rule-weighted parameter of each term.
+    fn block_products(&self, strengths: &[T; R]) -> [T; D] {
+        let mut b = [T::zero(); D];
+        for (&w, rls) in strengths.iter().zip(self.local.iter()) {
+            if w != T::zero() {
+                for (bs, &t) in b.iter_mut().zip(rls.parameters().iter()) {
+                    *bs += w * t;
+                }
+            }
+        }
+        b
+    }
+
+    /// `Σ_i ξ_i Δ_mᵀθ_i` for M outputs that share the premise, in the target's unit.
+    pub fn predict_many<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        let strengths = self.rules.firing_strengths(premise)?;
+        let b = self.block_products(&strengths);
+        let mut out = [T::zero(); M];
+        for (o, t) in out.iter_mut().zip(terms.iter()) {
+            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, &b) * self.scaling.target;
+        }
+        Ok(out)
+    }
+
+    /// Checks and computes an update of M outputs without changing anything (see
+    /// [`TsRls::prepare`](crate::TsRls::prepare); the rows are the same). Also checks every
+    /// rule's own prior innovation on the first row against [`TARGET_LIMIT`].
+    pub fn prepare<const M: usize>(
+        &self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+        targets: &[T; M],
+    ) -> Result<Prepared<T, R, D, M>, Error> {
+        let strengths = self.rules.firing_strengths(premise)?;
+        let b = self.block_products(&strengths);
+        let prepared = prepare_rows(strengths, &b, &self.scaling, terms, targets)?;
+        let limit = T::lit(TARGET_LIMIT);
+        if let (Some(row), Some(&y)) = (prepared.rows.first(), prepared.targets.first()) {
+            for rls in &self.local {
+                if !within(y - combine(row, rls.parameters()), limit) {
+                    return Err(Error::OutOfRange(Quantity::Target(0)));
+                }
+            }
+        }
+        Ok(prepared)
+    }
+
+    /// Learns from a [`Prepared`] update made by this model's [`prepare`](Self::prepare) with
+    /// the model unchanged since: every rule with `ξ_i ≥` [`MIN_LOCAL_STRENGTH`] takes each row
+    /// weighted by `√ξ_i`, forgetting with `λ_i` once per sample.
+    pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        let min = T::lit(MIN_LOCAL_STRENGTH);
+        let last = prepared.count.saturating_sub(1);
+        for (&w, rls) in prepared.strengths.iter().zip(self.local.iter_mut()) {
+            // Strengths are finite, in [0, 1] (the rule base makes them so).
+            if w < min {
+                continue;
+            }
+            let lambda = rls.config().forgetting;
+            // ξ_i = 1 keeps √ξ_i and λ_i exact, so that one rule is the global model.
+            let (root, lambda_i) = if w == T::one() {
+                (T::one(), lambda)
+            } else {
+                (w.sqrt(), T::one() - (T::one() - lambda) * w)
+            };
+            for (r, (row, &y)) in prepared
+                .rows
+                .iter()
+                .zip(prepared.targets.iter())
+                .take(prepared.count)
+                .enumerate()
+            {
+                let e = y - combine(row, rls.parameters());
+                let phi = row.map(|x| x * root);
+                let l = if r == last { lambda_i } else { T::one() };
+                rls.update_row(&phi, Everything(D), e * root, l);
+            }
+        }
+    }
+
+    /// Back to θ_i = 0, P_i = αI for every rule.
+    pub fn reset(&mut self) {
+        for rls in &mut self.local {
+            rls.reset();
+        }
+    }
+
+    /// Exports every rule's θ̃_i and covariance factor.
+    pub fn export(&self) -> LocalState<T, R, D, DP> {
+        self.local.each_ref().map(Rls::export)
+    }
+
+    /// The checks of [`import`](Self::import), without importing.
+    pub fn check_import(&self, state: &LocalState<T, R, D, DP>) -> Result<(), Error> {
+        for (rls, s) in self.local.iter().zip(state.iter()) {
+            rls.check_import(s)?;
+        }
+        Ok(())
+    }
+
+    /// Imports every rule's state (warm start; same scaling expected). On `Err` nothing
+    /// changed.
+    pub fn import(&mut self, state: &LocalState<T, R, D, DP>) -> Result<(), Error> {
+        self.check_import(state)?;
+        for (rls, s) in self.local.iter_mut().zip(state.iter()) {
+            rls.import(s)?;
+        }
+        Ok(())
+    }
+
+    /// New estimator settings and scales, in place, starting afresh. On `Err` nothing changed.
+    pub fn reconfigure(
+        &mut self,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<(), Error> {
+        config.validate()?;
+        scaling.validate()?;
+        for rls in &mut self.local {
+            rls.reconfigure(config)?;
+        }
+        self.scaling = scaling;
+        self.config = config;
+        Ok(())
+    }
+}

@@ -1,0 +1,293 @@
+//! Local learning ([`rotorid::local`]) and the flight identifier.
+use rotorid::hover::{
+    flight_sets, Attitude, Controls, HoverSample, LocalRateModel, LocalVelocityModel, Premise,
+    RateAxis, RateStructure, VelocityStructure,
+};
+use rotorid::learning::Learning;
+use rotorid::local::MIN_LOCAL_STRENGTH;
+use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
+use rotorid::rls::{Algorithm, RlsConfig};
+use rotorid::{
+    Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, HoverIdentifier, LocalTsRls,
+    Real, RuleBase, Scaling,
+};
+
+/// A manoeuvring sample sequence: forward flight up to ~12 m/s and back, rates and sticks
+/// moving, so that all three forward-speed rules fire.
+fn sample<T: Real>(k: u64) -> HoverSample<T> {
+    let t = k as f64 * 0.02;
+    let speed = 6.0 - 6.0 * (0.05 * t).cos();
+    let yaw = 0.3 * (0.07 * t).sin();
+    let l = |x: f64| T::lit(x);
+    HoverSample {
+        time_us: 1_000_000 + k * 20_000,
+        attitude: Attitude {
+            roll: l(0.05 * (0.7 * t).sin()),
+            pitch: l(-0.03 + 0.04 * (1.3 * t).cos()),
+            yaw: l(yaw),
+        },
+        // Paper axes: x east, y up, z south; flying along the heading ψ.
+        velocity: [
+            l(speed * yaw.sin()),
+            l(0.3 * (0.9 * t).cos()),
+            l(-speed * yaw.cos()),
+        ],
+        rates: [
+            l(5.0 * (2.0 * t).sin()),
+            l(8.0 * (1.1 * t).cos()),
+            l(-3.0 * (1.7 * t).sin()),
+        ],
+        controls: Controls {
+            col: l(0.5 + 0.05 * (0.3 * t).sin()),
+            ped: l(0.1 * (2.3 * t).sin()),
+            lon: l(0.1 * (1.9 * t).cos()),
+            lat: l(0.08 * (2.9 * t).sin()),
+        },
+    }
+}
+
+type LocalPlain = HoverIdentifier<
+    f32,
+    LocalVelocityModel<f32, 1, 7, 28>,
+    LocalRateModel<f32, 1, 5, 15>,
+    LocalRateModel<f32, 1, 5, 15>,
+    LocalRateModel<f32, 1, 5, 15>,
+>;
+
+fn local_plain(config: HoverConfig<f32>) -> LocalPlain {
+    let vs = VelocityStructure::Extended.helicopter_scaling();
+    let rs = RateStructure::Extended.helicopter_scaling();
+    let one = || RuleBase::single_rule().unwrap();
+    let rate = |axis| {
+        LocalRateModel::with_scaling(
+            axis,
+            one(),
+            RateStructure::Extended,
+            Premise::Rates,
+            config.rls,
+            rs,
+        )
+        .unwrap()
+    };
+    HoverIdentifier::new(
+        LocalVelocityModel::with_scaling(
+            one(),
+            VelocityStructure::Extended,
+            Premise::Velocity,
+            config.rls,
+            vs,
+        )
+        .unwrap(),
+        rate(RateAxis::Pitch),
+        rate(RateAxis::Yaw),
+        rate(RateAxis::Roll),
+        config,
+    )
+    .unwrap()
+}
+
+#[test]
+fn one_rule_local_learning_is_global_learning_bit_for_bit() {
+    let forgetting = RlsConfig::robust(1e6).with_forgetting(0.995, 1e9);
+    let covariance = RlsConfig::paper(1e6);
+    for rls in [RlsConfig::default(), forgetting, covariance] {
+        let config = HoverConfig {
+            rls,
+            ..HoverConfig::default()
+        };
+        let mut global = ExtendedPlainIdentifier::<f32>::extended_plain(config).unwrap();
+        let mut local = local_plain(config);
+        assert_eq!(local.velocity_model().learning(), Learning::Local);
+        assert_eq!(global.velocity_model().learning(), Learning::Global);
+        for k in 0..600 {
+            let s = sample::<f32>(k);
+            let (a, b) = (global.step(&s).unwrap(), local.step(&s).unwrap());
+            assert_eq!(
+                a.prediction.to_array().map(f32::to_bits),
+                b.prediction.to_array().map(f32::to_bits),
+                "step {k}, {:?}",
+                rls.algorithm
+            );
+            assert_eq!(
+                a.innovation.map(|i| i.to_array().map(f32::to_bits)),
+                b.innovation.map(|i| i.to_array().map(f32::to_bits))
+            );
+        }
+        let (g, l) = (global.export(), local.export());
+        assert_eq!(
+            g.velocity.theta.map(f32::to_bits),
+            l.velocity[0].theta.map(f32::to_bits)
+        );
+        assert_eq!(
+            g.velocity.factor.map(f32::to_bits),
+            l.velocity[0].factor.map(f32::to_bits)
+        );
+        assert_eq!(
+            g.yaw.theta.map(f32::to_bits),
+            l.yaw[0].theta.map(f32::to_bits)
+        );
+        assert_eq!(
+            g.roll.factor.map(f32::to_bits),
+            l.roll[0].factor.map(f32::to_bits)
+        );
+    }
+}
+
+fn flight() -> FlightIdentifier<f32> {
+    FlightIdentifier::flight(HoverConfig::default(), flight_sets()).unwrap()
+}
+
+#[test]
+fn flight_identifier_learns_every_rule_and_predicts_finite() {
+    let mut id = flight();
+    for k in 0..3000 {
+        let out = id.step(&sample(k)).unwrap();
+        assert!(out.prediction.to_array().iter().all(|x| x.is_finite()));
+    }
+    // The flight covers 0 to 12 m/s: every rule of every model has learnt.
+    for rule in 0..3 {
+        let r = id.yaw_model().ts().rule(rule).unwrap();
+        assert!(
+            r.counters().updates > 100,
+            "rule {rule}: {:?}",
+            r.counters()
+        );
+        assert!(r.parameters().iter().any(|&t| t != 0.0));
+    }
+    assert_eq!(id.pitch_model().premise(), Premise::HeadingVelocity);
+    assert_eq!(id.pitch_model().structure(), RateStructure::Flight);
+}
+
+#[test]
+fn flight_identifier_fits_3_kib_in_f32() {
+    assert!(core::mem::size_of::<FlightIdentifier<f32>>() <= 3 * 1024);
+}
+
+#[test]
+fn rejected_samples_change_nothing() {
+    let mut id = flight();
+    for k in 0..200 {
+        id.step(&sample(k)).unwrap();
+    }
+    let before = id.clone();
+    let mut bad = sample::<f32>(200);
+    bad.rates[1] = f32::NAN;
+    assert!(matches!(id.step(&bad), Err(Error::NonFinite(_))));
+    let mut bad = sample::<f32>(200);
+    bad.velocity[0] = 1e6;
+    assert!(matches!(id.step(&bad), Err(Error::OutOfRange(_))));
+    let mut late = sample::<f32>(200);
+    late.time_us += 500_000;
+    assert!(id.step(&late).is_err());
+    assert!(id
+        .predict_after(
+            Some(&rotorid::HoverState {
+                velocity: [0.0; 3],
+                rates: [f32::INFINITY, 0.0, 0.0]
+            }),
+            &sample(200)
+        )
+        .is_err());
+    assert_eq!(id, before);
+    // And it goes on exactly as if nothing had been offered.
+    let mut twin = before.clone();
+    for k in 200..260 {
+        let (a, b) = (id.step(&sample(k)).unwrap(), twin.step(&sample(k)).unwrap());
+        assert_eq!(
+            a.prediction.to_array().map(f32::to_bits),
+            b.prediction.to_array().map(f32::to_bits)
+        );
+    }
+}
+
+#[test]
+fn export_import_warm_start_continues_bit_for_bit() {
+    let mut id = flight();
+    for k in 0..400 {
+        id.step(&sample(k)).unwrap();
+    }
+    let mut warm = flight();
+    warm.import(&id.export()).unwrap();
+    id.resume(&sample(400)).unwrap();
+    warm.resume(&sample(400)).unwrap();
+    for k in 401..500 {
+        let (a, b) = (id.step(&sample(k)).unwrap(), warm.step(&sample(k)).unwrap());
+        assert_eq!(
+            a.prediction.to_array().map(f32::to_bits),
+            b.prediction.to_array().map(f32::to_bits)
+        );
+    }
+    // A corrupted state is refused whole.
+    let mut state = id.export();
+    state.roll[2].theta[0] = f32::NAN;
+    let kept = warm.clone();
+    assert!(warm.import(&state).is_err());
+    assert_eq!(warm, kept);
+}
+
+#[test]
+fn predict_after_uses_the_sample_before_for_the_second_order_term() {
+    let mut id = flight();
+    for k in 0..500 {
+        id.step(&sample(k)).unwrap();
+    }
+    let (s0, s1) = (sample::<f32>(500), sample::<f32>(501));
+    // Without a sample before, the second-order term is zero: as if the rates were steady.
+    let steady = id.predict_after(Some(&s1.state()), &s1).unwrap().to_array();
+    assert_eq!(steady, id.predict(&s1).unwrap().to_array());
+    let moving = id.predict_after(Some(&s0.state()), &s1).unwrap().to_array();
+    assert_ne!(steady[3..], moving[3..]);
+    // The velocity model is first order.
+    assert_eq!(steady[..3], moving[..3]);
+}
+
+#[test]
+fn a_rule_that_does_not_describe_the_data_learns_nothing() {
+    let sets = rotorid::hover::table3::sets(&[
+        LeftShoulder {
+            centre: 0.0f64,
+            spread: 0.5,
+        },
+        Gaussian {
+            centre: 5.0,
+            spread: 0.5,
+        },
+        RightShoulder {
+            centre: 10.0,
+            spread: 0.5,
+        },
+    ]);
+    let rules = RuleBase::new([sets, Default::default()]).unwrap();
+    let mut ts =
+        LocalTsRls::<f64, 2, 3, 2, 3>::with_scaling(rules, RlsConfig::default(), Scaling::unit())
+            .unwrap();
+    // Premise at 0: rule 1's strength exp(-50) and rule 2's exp(-200) are far below the
+    // threshold, so only rule 0 learns.
+    assert!((-50.0f64).exp() < MIN_LOCAL_STRENGTH);
+    for k in 0..50 {
+        let x = k as f64 * 0.1;
+        let p = ts
+            .prepare(&[0.0, 0.0], &[[x, 1.0]], &[2.0 * x + 1.0])
+            .unwrap();
+        ts.apply(&p);
+    }
+    assert!((ts.physical_parameter(0, 0).unwrap() - 2.0).abs() < 1e-6);
+    assert!((ts.physical_parameter(0, 1).unwrap() - 1.0).abs() < 1e-6);
+    for rule in 1..3 {
+        assert_eq!(ts.rule(rule).unwrap().counters().updates, 0);
+        assert_eq!(ts.rule(rule).unwrap().parameters(), &[0.0, 0.0]);
+    }
+    assert_eq!(ts.config().algorithm, Algorithm::UdFactor);
+    // Prediction is Σ ξ_i Δᵀθ_i: at the premise of rule 0 alone, rule 0's model.
+    let [y] = ts.predict_many(&[0.0, 0.0], &[[3.0, 1.0]]).unwrap();
+    assert!((y - 7.0).abs() < 1e-5);
+}
+
+#[test]
+fn the_flight_identifier_runs_in_f64() {
+    let mut id = FlightIdentifier::<f64>::flight(HoverConfig::default(), flight_sets()).unwrap();
+    for k in 0..1000 {
+        let out = id.step(&sample::<f64>(k)).unwrap();
+        assert!(out.prediction.to_array().iter().all(|x| x.is_finite()));
+    }
+}
