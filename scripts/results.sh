@@ -3,8 +3,9 @@
 # the Figure 2-5 analogues, free-run errors, metrics.json, exported parameters). Every number
 # in docs/results.md comes from this script: it flies the identification flight (seed 1, the
 # four Table 2 sweeps, 255 s) and a verification flight (seed 2, 300 s), once with realistic
-# sensors (noise, turbulence) and once clean, runs `rotorid identify` on both, and writes the
-# document from the two metrics files. Deterministic: same seeds, same bits.
+# sensors (noise, turbulence) and once clean, and the envelope flights (seeds 1 and 2); runs
+# `rotorid identify` on each pair and writes the document from the metrics files.
+# Deterministic: same seeds, same bits.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -30,11 +31,16 @@ cd "$work"
 "$bin" simulate --kind verification --seed 2 --duration 300 -o verify.csv
 "$bin" simulate --kind identification --seed 1 --clean -o ident-clean.csv
 "$bin" simulate --kind verification --seed 2 --duration 300 --clean -o verify-clean.csv
+"$bin" simulate --kind envelope --seed 1 -o envelope.csv
+"$bin" simulate --kind envelope-verification --seed 2 -o envelope-verify.csv
 
 mkdir -p "$root/docs/figures"
 "$bin" identify --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
 "$bin" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
+mkdir -p "$root/docs/figures/envelope"
+"$bin" identify --train envelope.csv --verify envelope-verify.csv --out "$root/docs/figures/envelope" \
+  --plot-span 60
 end=$(date +%s)
 "$bin" report --realistic "$root/docs/figures/metrics.json" --clean clean/metrics.json \
-  --elapsed $((end - start)) -o "$root/docs/results.md"
+  --envelope "$root/docs/figures/envelope/metrics.json" --elapsed $((end - start)) -o "$root/docs/results.md"
 echo "wrote docs/results.md and docs/figures/ in $((end - start)) s"

@@ -606,11 +606,11 @@ pub fn variants() -> Vec<Variant> {
         },
         Variant {
             name: "flight",
-            description: "the flight default: extended terms, 3 rules per model on forward speed at the data's quantiles (noise floor 3σ_n), local learning, helicopter scaling",
-            build: |training| {
+            description: "the flight default (FlightIdentifier): extended terms + speed and second-order rate terms, 3 rules per model on forward speed (0, 5, 10 m/s, σ 2.5), local learning, helicopter scaling",
+            build: |_| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
                     HoverConfig::default(),
-                    forward_speed_sets(training)?,
+                    flight_sets(),
                 )?))
             },
         },
@@ -624,12 +624,12 @@ pub fn variants() -> Vec<Variant> {
             },
         },
         Variant {
-            name: "flight fixed sets",
-            description: "the flight default with its built-in forward-speed sets (0, 5, 10 m/s, σ 2.5) instead of sets from the data",
-            build: |_| {
+            name: "flight data sets",
+            description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
+            build: |training| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
                     HoverConfig::default(),
-                    flight_sets(),
+                    forward_speed_sets(training)?,
                 )?))
             },
         },

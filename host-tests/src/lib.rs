@@ -4,6 +4,7 @@ pub mod dense_rls;
 pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
+pub mod flight_report;
 pub mod golden;
 pub mod log;
 pub mod onboard;

@@ -549,8 +549,13 @@ f32 against f64 after the identification flight (flight settings: U-D RLS, helic
 pub fn results_markdown(
     realistic: &Metrics,
     clean: &Metrics,
+    envelope: Option<(&Metrics, &std::path::Path)>,
     elapsed_s: Option<f64>,
 ) -> Result<String, String> {
+    let flight = match envelope {
+        Some((m, dir)) => crate::flight_report::flight_markdown(realistic, m, dir)?,
+        None => "(not run: `rotorid report` was given no `--envelope` metrics)\n".to_string(),
+    };
     let t = realistic
         .table4
         .as_ref()
@@ -565,6 +570,7 @@ pub fn results_markdown(
     let pl = realistic.variants.get(1).ok_or("no plain variant")?;
     let mut template = include_str!("report_results.md").to_string();
     let subs: Vec<(&str, String)> = vec![
+        ("{{FLIGHT}}", flight),
         ("{{TABLE4}}", table4_markdown(t)),
         ("{{TABLE4_CLEAN}}", table4_markdown(tc)),
         ("{{VARIANTS}}", variants_markdown(realistic)),

@@ -898,7 +898,10 @@ impl<'a> ParamsChunk<'a> {
         let total = r.get_u16()?;
         let words = r.rest();
         let n = words.len() / 4;
-        if model > 3 || !words.len().is_multiple_of(4) || usize::from(index) + n > usize::from(total) {
+        if model > 3
+            || !words.len().is_multiple_of(4)
+            || usize::from(index) + n > usize::from(total)
+        {
             return Err(PayloadError::InvalidValue);
         }
         Ok(Self {

@@ -98,6 +98,9 @@ enum Command {
         /// metrics.json of the clean (no noise, still air) run.
         #[arg(long)]
         clean: PathBuf,
+        /// metrics.json of the envelope run (its directory also holds params-flight.json).
+        #[arg(long)]
+        envelope: Option<PathBuf>,
         /// Seconds the results script took to simulate and identify (for the doc).
         #[arg(long)]
         elapsed: Option<f64>,
@@ -137,9 +140,10 @@ fn main() -> ExitCode {
         Command::Report {
             realistic,
             clean,
+            envelope,
             elapsed,
             output,
-        } => run_report(&realistic, &clean, elapsed, &output),
+        } => run_report(&realistic, &clean, envelope.as_deref(), elapsed, &output),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -335,6 +339,7 @@ fn run_identify(
 fn run_report(
     realistic: &Path,
     clean: &Path,
+    envelope: Option<&Path>,
     elapsed: Option<f64>,
     output: &Path,
 ) -> Result<(), String> {
@@ -342,6 +347,15 @@ fn run_report(
         let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
     };
-    let md = report::results_markdown(&load(realistic)?, &load(clean)?, elapsed)?;
+    let envelope = match envelope {
+        Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
+        None => None,
+    };
+    let md = report::results_markdown(
+        &load(realistic)?,
+        &load(clean)?,
+        envelope.as_ref().map(|(m, d)| (m, d.as_path())),
+        elapsed,
+    )?;
     std::fs::write(output, md).map_err(|e| format!("{}: {e}", output.display()))
 }

@@ -1,0 +1,195 @@
+//! The flight default's evidence in docs/results.md: every variant against the extended plain
+//! model on the hover and the envelope flights, and the local derivatives the flight
+//! identifier's rules learnt in each speed region beside the plant's own.
+
+use std::path::Path;
+
+use rotorid::hover::RateStructure;
+
+use crate::experiments::ModelParameters;
+use crate::plant::{derivative, trim_hover, State, XCell60};
+use crate::report::Metrics;
+
+/// The variant every other is measured against.
+pub const BASELINE: &str = "extended plain";
+/// The variant a user should fly.
+pub const FLIGHT: &str = "flight";
+/// Hover: the flight default may be at most this much worse than [`BASELINE`] (ratio).
+pub const HOVER_TOLERANCE: f64 = 1.03;
+/// Envelope: the flight default's free-run error at most this fraction of [`BASELINE`]'s.
+pub const ENVELOPE_TARGET: f64 = 0.7;
+
+fn mark(ok: bool) -> &'static str {
+    if ok {
+        "✅"
+    } else {
+        "❌"
+    }
+}
+
+fn ratios(m: &Metrics, pick: impl Fn(&crate::experiments::VariantResult) -> [f64; 6]) -> String {
+    let Some(base) = m.variants.iter().find(|v| v.name == BASELINE) else {
+        return format!("(no `{BASELINE}` variant in the metrics)\n");
+    };
+    let b = pick(base);
+    let mut s = String::from(
+        "| variant | v_x | v_y | v_z | q | r | p |\n|---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for v in &m.variants {
+        let x = pick(v);
+        let cells: Vec<String> = (0..6).map(|i| format!("{:.2}", x[i] / b[i])).collect();
+        s += &format!("| {} | {} |\n", v.name, cells.join(" | "));
+    }
+    s
+}
+
+/// The criteria of the flight default, checked on the metrics.
+fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
+    let find = |m: &Metrics, n: &str| m.variants.iter().find(|v| v.name == n).cloned();
+    let (Some(hf), Some(hb), Some(ef), Some(eb)) = (
+        find(hover, FLIGHT),
+        find(hover, BASELINE),
+        find(envelope, FLIGHT),
+        find(envelope, BASELINE),
+    ) else {
+        return "(flight or baseline variant missing)\n".into();
+    };
+    let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
+    let mut s = String::new();
+    let worst = |a: &[f64; 6], b: &[f64; 6]| {
+        (0..6)
+            .map(|i| (a[i] / b[i], labels[i]))
+            .fold((0.0f64, ""), |acc, x| if x.0 > acc.0 { x } else { acc })
+    };
+    let (w1, l1) = worst(&hf.one_step, &hb.one_step);
+    let (w2, l2) = worst(&hf.free_run, &hb.free_run);
+    s += &format!(
+        "* Hover, one step: worst ratio {w1:.3} ({l1}) {} (at most {HOVER_TOLERANCE} on every state)\n",
+        mark(w1 <= HOVER_TOLERANCE)
+    );
+    s += &format!(
+        "* Hover, free run: worst ratio {w2:.3} ({l2}) {}\n",
+        mark(w2 <= HOVER_TOLERANCE)
+    );
+    let r: Vec<f64> = (0..6).map(|i| ef.free_run[i] / eb.free_run[i]).collect();
+    let rates_ok = r[3..].iter().all(|&x| x <= ENVELOPE_TARGET);
+    let velocities = r[..3].iter().filter(|&&x| x <= ENVELOPE_TARGET).count();
+    s += &format!(
+        "* Envelope, free run on q, r, p: {:.2}, {:.2}, {:.2} {} (each at most {ENVELOPE_TARGET})\n",
+        r[3],
+        r[4],
+        r[5],
+        mark(rates_ok)
+    );
+    s += &format!(
+        "* Envelope, free run on v_x, v_y, v_z: {:.2}, {:.2}, {:.2}: {velocities} of 3 at most {ENVELOPE_TARGET} {} (at least 2)\n",
+        r[0],
+        r[1],
+        r[2],
+        mark(velocities >= 2)
+    );
+    s
+}
+
+/// Rate derivatives of the plant at the hover trim state flown at `forward` m/s (body x):
+/// `[∂ω̇/∂ω (1/s), ∂ω̇/∂(speed) (deg/s² per m/s)]` for q, r, p, with the speed of each rate
+/// model's κ term (forward for q, rightward for r and p). Central differences, flapping held.
+fn plant_derivatives(params: &XCell60, forward: f64) -> Result<[[f64; 2]; 3], String> {
+    let trim = trim_hover(params, 0.0).map_err(|e| e.to_string())?;
+    let pitch = params.blade_pitch(&trim.sticks);
+    let mut at = trim.state;
+    at.vel_body.x = forward;
+    let eval = |s: &State, axis: usize| {
+        derivative(params, s, &pitch, &nalgebra::Vector3::zeros())
+            .0
+            .omega[axis]
+    };
+    let h = 1e-3;
+    // ω = [p, q, r] (FRD); the models are q, r, p.
+    let axes = [1usize, 2, 0];
+    let mut out = [[0.0; 2]; 3];
+    for (o, &axis) in out.iter_mut().zip(axes.iter()) {
+        let diff = |f: &dyn Fn(&mut State, f64)| {
+            let (mut a, mut b) = (at, at);
+            f(&mut a, h);
+            f(&mut b, -h);
+            (eval(&a, axis) - eval(&b, axis)) / (2.0 * h)
+        };
+        let damping = diff(&|s, d| s.omega[axis] += d);
+        let speed = if axis == 1 {
+            diff(&|s, d| s.vel_body.x += d)
+        } else {
+            diff(&|s, d| s.vel_body.y += d)
+        };
+        *o = [damping, speed.to_degrees()];
+    }
+    Ok(out)
+}
+
+/// The identified local derivatives of the flight identifier's rate models, per rule, from
+/// its exported parameters (scaled θ): `[δ/ΔT (1/s), κ/ΔT (deg/s² per m/s)]`.
+fn identified(params: &[ModelParameters], period_s: f64) -> Option<Vec<[[f64; 2]; 3]>> {
+    let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>();
+    let (sd, sk, sy) = (scaling.terms[2], scaling.terms[5], scaling.target);
+    let mut rules = vec![[[0.0; 2]; 3]; 3];
+    for (m, name) in ["q", "r", "p"].iter().enumerate() {
+        let p = params.iter().find(|p| p.model == *name)?;
+        for (rule, out) in rules.iter_mut().enumerate() {
+            let theta = p.theta.get(rule * 7..rule * 7 + 7)?;
+            let delta = f64::from(theta[2]) * sy / sd;
+            let kappa = f64::from(theta[5]) * sy / sk;
+            out[m] = [delta / period_s, kappa / period_s];
+        }
+    }
+    Some(rules)
+}
+
+/// The section of docs/results.md on the flight default.
+pub fn flight_markdown(
+    hover: &Metrics,
+    envelope: &Metrics,
+    envelope_dir: &Path,
+) -> Result<String, String> {
+    let mut s = String::new();
+    s += "### Criteria\n\n";
+    s += &criteria(hover, envelope);
+    s += "\n### Envelope flights: error ratio to extended plain, free run ";
+    s += &format!("{} s\n\n", envelope.window_s);
+    s += &ratios(envelope, |v| v.free_run);
+    s += "\n### Envelope flights: error ratio to extended plain, one step (θ frozen)\n\n";
+    s += &ratios(envelope, |v| v.one_step);
+    s += "\n### Hover flights: error ratio to extended plain, free run\n\n";
+    s += &ratios(hover, |v| v.free_run);
+    s += "\n### Hover flights: error ratio to extended plain, one step (θ frozen)\n\n";
+    s += &ratios(hover, |v| v.one_step);
+    s += "\n### Envelope flights: absolute errors\n\n";
+    s += &crate::report::variants_markdown(envelope);
+
+    let path = envelope_dir.join(format!("params-{FLIGHT}.json"));
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let params: Vec<ModelParameters> =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let period = 0.02;
+    let learnt = identified(&params, period).ok_or("flight parameters: unexpected layout")?;
+    let plant = XCell60::default();
+    s += "\n### Why: what each speed region learnt\n\n";
+    s += "Each rate model's rules are local linear models of their speed region. Identified \
+          (per rule, physical units): the damping `δ/ΔT` (1/s) and the speed term `κ/ΔT` \
+          (deg/s² per m/s of forward speed for q, of rightward speed for r and p). Plant: the \
+          partial derivatives of the X-Cell's angular acceleration at the hover trim flown \
+          at the rule's centre speed, with the rotor's flapping held (so they leave out the \
+          flapping's own share of the damping, which the identified δ, with the \
+          second-order term η, includes): they show how strongly the physics changes with \
+          speed, not the identified numbers' expected values.\n\n";
+    s += "| rule (centre) | q: δ/ΔT | q: κ/ΔT | r: δ/ΔT | r: κ/ΔT | p: δ/ΔT | p: κ/ΔT | plant N_r | plant N_v | plant M_u | plant L_v |\n";
+    s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (rule, centre) in [0.0, 5.0, 10.0].iter().enumerate() {
+        let l = &learnt[rule];
+        let d = plant_derivatives(&plant, *centre)?;
+        s += &format!(
+            "| {rule} ({centre} m/s) | {:.2} | {:.3} | {:.2} | {:.3} | {:.2} | {:.3} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
+            l[0][0], l[0][1], l[1][0], l[1][1], l[2][0], l[2][1], d[1][0], d[1][1], d[0][1], d[2][1]
+        );
+    }
+    Ok(s)
+}
