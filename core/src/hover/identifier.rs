@@ -484,7 +484,7 @@ impl<T: Real> FlightIdentifier<T> {
         build(
             config,
             rules,
-            VelocityStructure::Extended,
+            VelocityStructure::Flight,
             RateStructure::Flight,
             Premises {
                 velocity: Premise::HeadingVelocity,
@@ -501,7 +501,7 @@ impl<T: Real> FlightPlainIdentifier<T> {
         build(
             config,
             (one()?, one()?, one()?, one()?),
-            VelocityStructure::Extended,
+            VelocityStructure::Flight,
             RateStructure::Flight,
             Premises {
                 velocity: Premise::HeadingVelocity,

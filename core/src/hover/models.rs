@@ -86,6 +86,13 @@ pub enum VelocityStructure {
     /// the trim roll against the tail rotor, and without it Eq. 27 leaves a bias that turns
     /// with the heading (an affine term fixed in the body frame, not the inertial one). `D = 7`.
     Extended,
+    /// [`Extended`](Self::Extended) with the drag in the aircraft's heading frame instead of
+    /// the inertial axes: `[α1, α2, d_f, d_r, d_u, σ0, σ1]` with
+    /// `… + d_f u_f f + d_r u_r r + d_u v_y e2 + …`, where `f` and `r` are the heading's
+    /// forward and right unit vectors and `u_f`, `u_r` the velocity along them (m/s). A
+    /// fuselage's drag differs along and across it; in inertial axes those two mix as the
+    /// heading turns, so that one set of `d_x, d_z` fits only one heading. `D = 7`.
+    Flight,
 }
 
 impl VelocityStructure {
@@ -93,7 +100,7 @@ impl VelocityStructure {
     pub const fn terms(self) -> usize {
         match self {
             Self::Paper => 2,
-            Self::Extended => 7,
+            Self::Extended | Self::Flight => 7,
         }
     }
 
@@ -103,7 +110,7 @@ impl VelocityStructure {
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
         let nominal: &[f64] = match self {
             Self::Paper => &[0.5, 1.0],
-            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
+            Self::Extended | Self::Flight => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -339,8 +346,15 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
         // The right axis only enters the extended structure.
         let side = match self.structure {
             VelocityStructure::Paper => [T::zero(); 3],
-            VelocityStructure::Extended => trig.right_axis(),
+            VelocityStructure::Extended | VelocityStructure::Flight => trig.right_axis(),
         };
+        // Heading frame in paper axes (x east, y up, z south): forward f = [sψ, 0, −cψ],
+        // right r = [cψ, 0, sψ].
+        let (sp, cp) = (trig.sp, trig.cp);
+        let forward = [sp, T::zero(), -cp];
+        let right = [cp, T::zero(), sp];
+        let [vx, _, vz] = s.velocity;
+        let (u_f, u_r) = (vx * sp - vz * cp, vx * cp + vz * sp);
         let one = T::one();
         for (out, (t, ((&ei, &v), &si))) in terms
             .iter_mut()
@@ -354,9 +368,18 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
             // output, the side force in all three.
             let weight = if out == 1 { Some((1, one)) } else { None };
             let extended = [(2 + out, v), (5, si), (6, si * s.controls.ped)];
+            let (f, r) = (forward.get(out), right.get(out));
+            let flight = [
+                (2, f.map_or_else(T::zero, |&f| f * u_f)),
+                (3, r.map_or_else(T::zero, |&r| r * u_r)),
+                (4, if out == 1 { v } else { T::zero() }),
+                (5, si),
+                (6, si * s.controls.ped),
+            ];
             let own: &[(usize, T)] = match self.structure {
                 VelocityStructure::Paper => &[],
                 VelocityStructure::Extended => &extended,
+                VelocityStructure::Flight => &flight,
             };
             for &(slot, value) in weight.iter().chain(own.iter()) {
                 if let Some(x) = t.get_mut(slot) {
