@@ -209,7 +209,7 @@ impl Stopwatch {
 
     /// Restarts the count at zero. Re-enabling the counter also realigns its prescaler phase
     /// (in QEMU), which is what makes back-to-back measurements repeat exactly.
-    fn restart(&mut self) {
+    pub fn restart(&mut self) {
         cortex_m::interrupt::free(|_| {
             self.syst.disable_counter();
             self.syst.clear_current();
@@ -220,7 +220,7 @@ impl Stopwatch {
     }
 
     /// Ticks since the last restart.
-    fn elapsed(&self) -> u64 {
+    pub fn elapsed(&self) -> u64 {
         cortex_m::interrupt::free(|_| {
             let mut wraps = WRAPS.load(Ordering::Relaxed);
             let mut cvr = SYST::get_current();
@@ -368,4 +368,4 @@ pub fn memory_report() -> MemoryReport {
 }
 
 /// The RAM budget of `memory.x`, in bytes (the QEMU build links with more, see build.rs).
-pub const RAM_SIZE: u32 = 32 * 1024;
+pub const RAM_SIZE: u32 = 64 * 1024;

@@ -349,12 +349,21 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
             VelocityStructure::Extended | VelocityStructure::Flight => trig.right_axis(),
         };
         // Heading frame in paper axes (x east, y up, z south): forward f = [sψ, 0, −cψ],
-        // right r = [cψ, 0, sψ].
-        let (sp, cp) = (trig.sp, trig.cp);
-        let forward = [sp, T::zero(), -cp];
-        let right = [cp, T::zero(), sp];
-        let [vx, _, vz] = s.velocity;
-        let (u_f, u_r) = (vx * sp - vz * cp, vx * cp + vz * sp);
+        // right r = [cψ, 0, sψ]; with the velocity along them. Only the flight structure
+        // needs them (the others skip the work).
+        let heading = match self.structure {
+            VelocityStructure::Flight => {
+                let (sp, cp) = (trig.sp, trig.cp);
+                let [vx, _, vz] = s.velocity;
+                let (u_f, u_r) = (vx * sp - vz * cp, vx * cp + vz * sp);
+                [
+                    [sp * u_f, cp * u_r],
+                    [T::zero(), T::zero()],
+                    [-cp * u_f, sp * u_r],
+                ]
+            }
+            _ => [[T::zero(); 2]; 3],
+        };
         let one = T::one();
         for (out, (t, ((&ei, &v), &si))) in terms
             .iter_mut()
@@ -365,25 +374,30 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
                 *x = ei * s.controls.col;
             }
             // Slots [α1, α2, d_x, d_y, d_z, σ0, σ1]: α2 only in v_y, each drag in its own
-            // output, the side force in all three.
-            let weight = if out == 1 { Some((1, one)) } else { None };
-            let extended = [(2 + out, v), (5, si), (6, si * s.controls.ped)];
-            let (f, r) = (forward.get(out), right.get(out));
-            let flight = [
-                (2, f.map_or_else(T::zero, |&f| f * u_f)),
-                (3, r.map_or_else(T::zero, |&r| r * u_r)),
-                (4, if out == 1 { v } else { T::zero() }),
-                (5, si),
-                (6, si * s.controls.ped),
-            ];
-            let own: &[(usize, T)] = match self.structure {
-                VelocityStructure::Paper => &[],
-                VelocityStructure::Extended => &extended,
-                VelocityStructure::Flight => &flight,
-            };
-            for &(slot, value) in weight.iter().chain(own.iter()) {
+            // output (the flight structure: forward and right drag in x and z, vertical in
+            // y), the side force in all three.
+            let mut set = |slot: usize, value: T| {
                 if let Some(x) = t.get_mut(slot) {
                     *x = value;
+                }
+            };
+            if out == 1 {
+                set(1, one);
+            }
+            match self.structure {
+                VelocityStructure::Paper => {}
+                VelocityStructure::Extended => {
+                    set(2 + out, v);
+                    set(5, si);
+                    set(6, si * s.controls.ped);
+                }
+                VelocityStructure::Flight => {
+                    let [f, r] = heading.get(out).copied().unwrap_or([T::zero(); 2]);
+                    set(2, f);
+                    set(3, r);
+                    set(4, if out == 1 { v } else { T::zero() });
+                    set(5, si);
+                    set(6, si * s.controls.ped);
                 }
             }
         }

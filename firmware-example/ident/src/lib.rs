@@ -19,6 +19,8 @@
 
 #![no_std]
 
+pub mod step_cost;
+
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 

@@ -1,0 +1,51 @@
+//! Prints the cost of every identifier's step on a stream that fires every rule, as a
+//! markdown table on the semihosting console, then exits (run by `scripts/cost.sh` under
+//! `qemu-system-arm -icount shift=0`, where one SysTick tick is 40 instructions).
+#![no_std]
+#![no_main]
+
+#[allow(dead_code)]
+#[path = "../board.rs"]
+mod board;
+#[allow(dead_code)]
+#[path = "../link.rs"]
+mod link;
+
+use cortex_m_rt::entry;
+use defmt_semihosting as _;
+use firmware_ident::step_cost::{self, StepCost, Timer};
+
+struct SysTickTimer(board::Stopwatch);
+
+impl Timer for SysTickTimer {
+    fn restart(&mut self) {
+        self.0.restart();
+    }
+    fn elapsed(&mut self) -> u64 {
+        self.0.elapsed()
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(cp) = cortex_m::Peripherals::take() else {
+        board::exit(board::EXIT_INIT)
+    };
+    let mut timer = SysTickTimer(board::Stopwatch::new(cp.SYST));
+    semihosting::println!(
+        "| identifier | mean instructions/step | worst instructions/step | steps | rejected | predictions (FNV-1a of the bits) |"
+    );
+    semihosting::println!("|---|---:|---:|---:|---:|---|");
+    step_cost::run(&mut timer, &mut |c: &StepCost| {
+        semihosting::println!(
+            "| {} | {} | {} | {} | {} | {:08x} |",
+            c.name,
+            c.mean_ticks * 40,
+            c.max_ticks * 40,
+            c.steps,
+            c.rejected,
+            c.hash
+        );
+    });
+    board::exit(0)
+}

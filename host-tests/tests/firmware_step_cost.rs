@@ -1,0 +1,66 @@
+//! Every identifier, including the local-learning ones and the flight default, computes the
+//! same bits on the Cortex-M4F (QEMU) as on x86_64, on a stream that fires every rule: the
+//! firmware's `step-cost` binary prints a hash of all its predictions per identifier, and the
+//! very same module (`firmware-example/ident/src/step_cost.rs`) runs here.
+
+#[allow(dead_code)]
+#[path = "../../firmware-example/ident/src/step_cost.rs"]
+mod step_cost;
+
+use std::collections::BTreeMap;
+use std::process::Command;
+
+use host_tests::firmware_link::{build_firmware, firmware_dir};
+use step_cost::{StepCost, Timer};
+
+struct NoTimer;
+
+impl Timer for NoTimer {
+    fn restart(&mut self) {}
+    fn elapsed(&mut self) -> u64 {
+        0
+    }
+}
+
+#[test]
+fn every_identifier_is_bit_identical_on_the_cortex_m4f() {
+    if Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        panic!("qemu-system-arm is missing: run scripts/setup.sh");
+    }
+    let mut host = BTreeMap::new();
+    step_cost::run(&mut NoTimer, &mut |c: &StepCost| {
+        assert_eq!(c.rejected, 0, "{}", c.name);
+        host.insert(c.name.to_string(), format!("{:08x}", c.hash));
+    });
+    build_firmware().expect("firmware builds");
+    let elf = firmware_dir().join("target/thumbv7em-none-eabihf/release/step-cost");
+    let out = Command::new("qemu-system-arm")
+        .args([
+            "-cpu",
+            "cortex-m4",
+            "-machine",
+            "mps2-an386",
+            "-display",
+            "none",
+        ])
+        .args(["-monitor", "none", "-serial", "null", "-icount", "shift=0"])
+        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
+        .arg(&elf)
+        .output()
+        .expect("qemu runs");
+    assert!(out.status.success(), "step-cost exited with {}", out.status);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut target = BTreeMap::new();
+    for line in text.lines().skip(2) {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        if let (Some(name), Some(hash)) = (cells.get(1), cells.get(6)) {
+            target.insert(name.to_string(), hash.to_string());
+        }
+    }
+    assert_eq!(host.len(), 7, "{host:?}");
+    assert_eq!(host, target, "firmware output:\n{text}");
+}
