@@ -40,7 +40,7 @@ fn frames() -> usize {
 #[test]
 fn no_corrupted_frame_is_accepted_every_loss_is_counted_and_the_link_resynchronises() {
     let n = frames();
-    let mut rng = ChaCha8Rng::seed_from_u64(0x11_4e_5ca1e);
+    let mut rng = ChaCha8Rng::seed_from_u64(0x0001_14e5_ca1e);
     let mut tx = FrameEncoder::new();
     let mut wire = [0u8; MAX_WIRE_LEN];
     let mut channel: Vec<u8> = Vec::new();
