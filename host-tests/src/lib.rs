@@ -10,6 +10,7 @@ pub mod log;
 pub mod onboard;
 pub mod plant;
 pub mod precision;
+pub mod rate_units;
 pub mod reference;
 pub mod report;
 

@@ -86,6 +86,26 @@ pub enum LogErrorKind {
         /// Fields in the header.
         expected: usize,
     },
+    /// A row has more fields than the header.
+    #[error("row has {found} fields, the header has {expected} (decimal commas? use '.' for decimals and ',' between fields)")]
+    ExtraFields {
+        /// Fields in the row.
+        found: usize,
+        /// Fields in the header.
+        expected: usize,
+    },
+    /// A number written with a decimal comma (`0,5`).
+    #[error("`{0}` has a decimal comma? use '.' for decimals")]
+    DecimalComma(String),
+    /// The header is separated by `;` (a spreadsheet's export with decimal commas).
+    #[error("the header is separated by ';'; the format separates fields by ',' and uses '.' for decimals")]
+    Semicolons,
+    /// The logged body rates are about 57 times the attitude's rate of change: deg/s.
+    #[error("the body rates are {ratio:.1} times what the attitude's rate of change implies; are p_radps, q_radps, r_radps in deg/s?")]
+    RatesLookLikeDegrees {
+        /// Logged rates over attitude-implied rates (1 for rad/s, 57.3 for deg/s).
+        ratio: f64,
+    },
     /// A field is not a number.
     #[error("not a number: `{0}`")]
     NotANumber(String),
@@ -251,6 +271,9 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
             ));
         }
     }
+    if header.len() == 1 && header.get(0).is_some_and(|h| h.contains(';')) {
+        return Err(err(file, Some(header_line), None, LogErrorKind::Semicolons));
+    }
     for (k, &i) in index.iter().enumerate() {
         if i == usize::MAX {
             return Err(err(
@@ -269,6 +292,17 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
         if record.iter().all(str::is_empty) {
             continue;
         }
+        if record.len() > header.len() {
+            return Err(err(
+                file,
+                Some(line),
+                None,
+                LogErrorKind::ExtraFields {
+                    found: record.len(),
+                    expected: header.len(),
+                },
+            ));
+        }
         let mut v = [0.0f64; 14];
         for (k, &i) in index.iter().enumerate() {
             let col = Some((i + 1, COLUMNS[k]));
@@ -284,12 +318,13 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                 )
             })?;
             let x: f64 = text.parse().map_err(|_| {
-                err(
-                    file,
-                    Some(line),
-                    col,
-                    LogErrorKind::NotANumber(text.to_string()),
-                )
+                let comma = text.replacen(',', ".", 1).parse::<f64>().is_ok();
+                let kind = if comma {
+                    LogErrorKind::DecimalComma(text.to_string())
+                } else {
+                    LogErrorKind::NotANumber(text.to_string())
+                };
+                err(file, Some(line), col, kind)
             })?;
             if !x.is_finite() {
                 return Err(err(
@@ -350,7 +385,22 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
     if out.is_empty() {
         return Err(err(file, Some(header_line), None, LogErrorKind::NoSamples));
     }
+    check_rate_units(file, &out)?;
     Ok(out)
+}
+
+/// Rejects body rates that are about 57 times the attitude's rate of change (deg/s in a rad/s
+/// column), see [`rate_units`](crate::rate_units); calm or short logs pass unjudged.
+pub fn check_rate_units(file: &str, samples: &[SensorSample]) -> Result<(), LogError> {
+    match crate::rate_units::rate_gain(samples) {
+        Some(k) if k < crate::rate_units::DEGREES_BELOW => Err(err(
+            file,
+            None,
+            None,
+            LogErrorKind::RatesLookLikeDegrees { ratio: 1.0 / k },
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Range check of column `k` of [`COLUMNS`].
@@ -388,10 +438,25 @@ fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
     }
 }
 
+/// Fewest samples `identify` accepts in a log (1 s at 50 Hz): fewer give a Table 4 from a
+/// handful of steps.
+pub const MIN_SAMPLES: usize = 50;
+
+/// Below this many samples (10 s at 50 Hz) `identify` warns that the errors are noisy.
+pub const FEW_SAMPLES: usize = 500;
+
 /// Warnings about usable but doubtful data: the collective at or below zero (the models
-/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive).
+/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive), and a
+/// short log (under [`FEW_SAMPLES`]).
 pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     let mut out = Vec::new();
+    if samples.len() < FEW_SAMPLES {
+        out.push(format!(
+            "{file}: only {} samples ({:.1} s); one-step errors from fewer than {FEW_SAMPLES} samples (10 s) are noisy",
+            samples.len(),
+            samples.len() as f64 / 50.0
+        ));
+    }
     if let Some((i, s)) = samples
         .iter()
         .enumerate()

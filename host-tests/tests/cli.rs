@@ -311,3 +311,102 @@ fn malformed_logs_give_positioned_errors() {
     assert!(text(&o.stderr).contains("nonexistent.csv"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 12's CLI findings: each is an error (or a warning) now.
+#[test]
+fn cli_findings_of_issue_12() {
+    let dir = tmpdir("findings");
+
+    // A row with more fields than the header.
+    let e = malformed(
+        &dir,
+        "extra",
+        &with_row(3, "0.06,0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03,7"),
+    );
+    assert!(
+        e.contains("line 5") && e.contains("15 fields, the header has 14"),
+        "{e}"
+    );
+
+    // Decimal commas: unquoted (extra fields), quoted, or a `;`-separated export.
+    let e = malformed(
+        &dir,
+        "comma",
+        &with_row(2, "0,04,0,5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
+    );
+    assert!(e.contains("line 4") && e.contains("decimal comma"), "{e}");
+    let e = malformed(
+        &dir,
+        "quoted",
+        &with_row(2, "0.04,\"0,5\",0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
+    );
+    assert!(
+        e.contains("line 4, column 2 (`u_col`)") && e.contains("decimal comma"),
+        "{e}"
+    );
+    let semi: Vec<String> = rows(10).iter().map(|r| r.replace(',', ";")).collect();
+    let e = malformed(
+        &dir,
+        "semicolon",
+        &format!("{}\n{}\n", HEADER.replace(',', ";"), semi.join("\n")),
+    );
+    assert!(e.contains("line 1") && e.contains("';'"), "{e}");
+
+    // Gentle rates in deg/s (all under 34.9): caught against the attitude's rate of change,
+    // while the same flight in rad/s passes that check.
+    let gentle = |scale: f64| -> String {
+        let rows: Vec<String> = (0..100)
+            .map(|k| {
+                let t = k as f64 * 0.02;
+                let w = std::f64::consts::PI;
+                format!(
+                    "{t},0.5,0.4,0,0.03,{},0,0,0.1,0,0,{},0,0",
+                    0.1 * (w * t).sin(),
+                    scale * 0.1 * w * (w * t).cos()
+                )
+            })
+            .collect();
+        format!("{HEADER}\n{}\n", rows.join("\n"))
+    };
+    let e = malformed(&dir, "gentledeg", &gentle(180.0 / std::f64::consts::PI));
+    assert!(e.contains("deg/s") && e.contains("times"), "{e}");
+    let ok = dir.join("gentlerad.csv");
+    std::fs::write(&ok, gentle(1.0)).expect("write");
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--train"])
+        .arg(&ok)
+        .arg("--verify")
+        .arg(&ok)
+        .arg("--out")
+        .arg(dir.join("out")));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("only 100 samples"),
+        "{}",
+        text(&o.stderr)
+    );
+
+    // Two rows: refused (below the documented minimum of 50 samples).
+    let e = malformed(
+        &dir,
+        "tworows",
+        &format!("{HEADER}\n{}\n", rows(2).join("\n")),
+    );
+    assert!(e.contains("2 samples") && e.contains("at least 50"), "{e}");
+
+    // An identification flight longer than its sweeps: an error, not a silent clamp.
+    let o = run(bin()
+        .args([
+            "simulate",
+            "--kind",
+            "identification",
+            "--duration",
+            "999",
+            "-o",
+        ])
+        .arg(dir.join("long.csv")));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("255"), "{}", text(&o.stderr));
+    assert!(!dir.join("long.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

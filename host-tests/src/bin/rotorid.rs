@@ -52,7 +52,8 @@ enum Command {
         /// Seed of noise, turbulence, jitter and (verification) manoeuvres.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Duration (s). Identification: at most the 255 s of the sweeps (default all);
+        /// Duration (s). Identification: at most the 255 s of the sweeps (default all; longer is
+        /// an error);
         /// verification: default 120 s.
         #[arg(long)]
         duration: Option<f64>,
@@ -166,6 +167,12 @@ fn run_simulate(
             return Err(format!("--duration must be in (0, 36000] s, got {d}"));
         }
     }
+    let sweeps_s = experiments::identification_duration_s();
+    if let (Kind::Identification, Some(d)) = (kind, duration) {
+        if d > sweeps_s {
+            return Err(format!("--duration {d}: the identification flight (the four Table 2 sweeps) lasts {sweeps_s} s at most"));
+        }
+    }
     let samples = match (kind, clean) {
         (Kind::Identification, false) => {
             experiments::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
@@ -248,8 +255,19 @@ fn run_identify(
     }
     let training: Vec<_> = train.iter().map(|p| read(p)).collect::<Result<_, _>>()?;
     let verification = read(verify)?;
-    if verification.len() < 2 {
-        return Err(format!("{}: needs at least 2 samples", verify.display()));
+    for (path, n) in train
+        .iter()
+        .map(|p| p.as_path())
+        .zip(training.iter().map(Vec::len))
+        .chain([(verify, verification.len())])
+    {
+        if n < log::MIN_SAMPLES {
+            return Err(format!(
+                "{}: {n} samples; identify needs at least {} (1 s at 50 Hz)",
+                path.display(),
+                log::MIN_SAMPLES
+            ));
+        }
     }
     let warm: Option<Vec<ModelParameters>> = match warm_start {
         Some(p) => {
