@@ -6,6 +6,7 @@ pub mod experiments;
 pub mod firmware_link;
 pub mod flight_report;
 pub mod golden;
+pub mod import;
 pub mod log;
 pub mod onboard;
 pub mod plant;

@@ -404,7 +404,7 @@ pub fn check_rate_units(file: &str, samples: &[SensorSample]) -> Result<(), LogE
 }
 
 /// Range check of column `k` of [`COLUMNS`].
-fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
+pub fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
     match k {
         0 if x < 0.0 => Err(LogErrorKind::OutOfRange {
             value: x,
@@ -470,28 +470,32 @@ pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     out
 }
 
+/// A sample's values in the order of [`COLUMNS`].
+pub fn values(s: &SensorSample) -> [f64; 14] {
+    [
+        s.t,
+        s.sticks.col,
+        s.sticks.ped,
+        s.sticks.lon,
+        s.sticks.lat,
+        s.roll,
+        s.pitch,
+        s.yaw,
+        s.v_north,
+        s.v_east,
+        s.v_down,
+        s.p,
+        s.q,
+        s.r,
+    ]
+}
+
 /// Writes samples in the log format (header, then one row per sample; full `f64` precision).
 pub fn write_log_to(writer: impl Write, samples: &[SensorSample]) -> Result<(), csv::Error> {
     let mut w = csv::Writer::from_writer(writer);
     w.write_record(COLUMNS)?;
     for s in samples {
-        let row = [
-            s.t,
-            s.sticks.col,
-            s.sticks.ped,
-            s.sticks.lon,
-            s.sticks.lat,
-            s.roll,
-            s.pitch,
-            s.yaw,
-            s.v_north,
-            s.v_east,
-            s.v_down,
-            s.p,
-            s.q,
-            s.r,
-        ];
-        w.write_record(row.iter().map(|x| x.to_string()))?;
+        w.write_record(values(s).iter().map(|x| x.to_string()))?;
     }
     w.flush()?;
     Ok(())

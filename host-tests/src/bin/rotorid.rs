@@ -5,6 +5,7 @@
 //! rotorid simulate --kind identification --seed 1 -o ident.csv
 //! rotorid simulate --kind verification --seed 2 --duration 300 -o verify.csv
 //! rotorid identify --train ident.csv --verify verify.csv --out results/
+//! rotorid convert flight.ulg -o flight.csv
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -13,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use host_tests::envelope::{self, EnvelopeKind};
 use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use host_tests::import;
 use host_tests::log;
 use host_tests::plant::{simulate, verification_excitation, FlightConfig};
 use host_tests::report::{self, Metrics, Table4};
@@ -65,6 +67,8 @@ enum Command {
         output: PathBuf,
     },
     /// Train the fuzzy and plain identifiers on logs, verify on another log, print Table 4.
+    /// Logs: CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin); a log split at gaps trains on
+    /// each segment and verifies on the longest.
     Identify {
         /// Training (identification) logs, learnt one after another.
         #[arg(long, required = true, num_args = 1..)]
@@ -88,6 +92,15 @@ enum Command {
         /// Warm start the first variant from a params-*.json written by an earlier run.
         #[arg(long)]
         warm_start: Option<PathBuf>,
+    },
+    /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
+    /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
+    Convert {
+        /// Input log (.ulg, .bin, or CSV).
+        input: PathBuf,
+        /// Output CSV file.
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
@@ -138,6 +151,7 @@ fn main() -> ExitCode {
             no_plots,
             warm_start.as_deref(),
         ),
+        Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report {
             realistic,
             clean,
@@ -227,12 +241,44 @@ fn clean_config(seed: u64) -> FlightConfig {
     }
 }
 
-fn read(path: &Path) -> Result<Vec<rotorid::hover::HoverSample<f32>>, String> {
-    let log = log::read_log(path).map_err(|e| e.to_string())?;
-    for w in log::warnings(&path.display().to_string(), &log) {
-        eprintln!("warning: {w}");
+/// Reads a log of any format (CSV, ULog, DataFlash) and its warnings; `all`: every usable
+/// segment (training), else the longest (verification).
+fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, String> {
+    let imported = import::import(path).map_err(|e| e.to_string())?;
+    for n in &imported.notes {
+        eprintln!("note: {n}");
     }
-    Ok(experiments::to_hover_samples(&log))
+    let name = path.display().to_string();
+    let segments = import::segments_for_identify(&imported, all);
+    for seg in &segments {
+        for w in log::warnings(&name, seg) {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(segments
+        .iter()
+        .map(|s| experiments::to_hover_samples(s))
+        .collect())
+}
+
+fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
+    let imported = import::import(input).map_err(|e| e.to_string())?;
+    for n in &imported.notes {
+        eprintln!("note: {n}");
+    }
+    let seg = imported
+        .longest()
+        .ok_or_else(|| format!("{}: no samples", input.display()))?;
+    log::write_log(output, seg).map_err(|e| e.to_string())?;
+    eprintln!(
+        "wrote {} samples ({:.2}–{:.2} s, the longest of {} segments) to {}",
+        seg.len(),
+        seg.first().map_or(0.0, |s| s.t),
+        seg.last().map_or(0.0, |s| s.t),
+        imported.segments.len(),
+        output.display()
+    );
+    Ok(())
 }
 
 fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), String> {
@@ -253,11 +299,21 @@ fn run_identify(
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(format!("--window must be in (0, 3600] s, got {window}"));
     }
-    let training: Vec<_> = train.iter().map(|p| read(p)).collect::<Result<_, _>>()?;
-    let verification = read(verify)?;
-    for (path, n) in train
+    let mut training = Vec::new();
+    let mut train_names = Vec::new();
+    for p in train {
+        for seg in read(p, true)? {
+            training.push(seg);
+            train_names.push(p.as_path());
+        }
+    }
+    let verification = read(verify, false)?
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("{}: no samples", verify.display()))?;
+    for (path, n) in train_names
         .iter()
-        .map(|p| p.as_path())
+        .copied()
         .zip(training.iter().map(Vec::len))
         .chain([(verify, verification.len())])
     {
