@@ -106,6 +106,13 @@ pub enum LogErrorKind {
         /// Logged rates over attitude-implied rates (1 for rad/s, 57.3 for deg/s).
         ratio: f64,
     },
+    /// The logged body rates are about 1/57 of the attitude's rate of change: the angles are in
+    /// degrees (small enough to pass the range check).
+    #[error("the attitude changes {ratio:.1} times faster than the body rates imply; are roll_rad, pitch_rad, yaw_rad in degrees?")]
+    AttitudeLooksLikeDegrees {
+        /// Attitude-implied rates over logged rates (1 for radians, 57.3 for degrees).
+        ratio: f64,
+    },
     /// A field is not a number.
     #[error("not a number: `{0}`")]
     NotANumber(String),
@@ -390,17 +397,15 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
 }
 
 /// Rejects body rates that are about 57 times the attitude's rate of change (deg/s in a rad/s
-/// column), see [`rate_units`](crate::rate_units); calm or short logs pass unjudged.
+/// column) or about 1/57 of it (attitude in degrees), see [`rate_units`](crate::rate_units); calm or short logs pass unjudged.
 pub fn check_rate_units(file: &str, samples: &[SensorSample]) -> Result<(), LogError> {
-    match crate::rate_units::rate_gain(samples) {
-        Some(k) if k < crate::rate_units::DEGREES_BELOW => Err(err(
-            file,
-            None,
-            None,
-            LogErrorKind::RatesLookLikeDegrees { ratio: 1.0 / k },
-        )),
-        _ => Ok(()),
-    }
+    use crate::rate_units::{rate_gain, DEGREES_BELOW};
+    let kind = match rate_gain(samples) {
+        Some(k) if k < DEGREES_BELOW => LogErrorKind::RatesLookLikeDegrees { ratio: 1.0 / k },
+        Some(k) if k > 1.0 / DEGREES_BELOW => LogErrorKind::AttitudeLooksLikeDegrees { ratio: k },
+        _ => return Ok(()),
+    };
+    Err(err(file, None, None, kind))
 }
 
 /// Range check of column `k` of [`COLUMNS`].
@@ -544,6 +549,36 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "x.csv: line 3, column 2 (`u_col`): not a number: `abc`"
+        );
+    }
+
+    /// A gentle roll oscillation (amplitude `amp` rad, 0.5 Hz), angles × `angle_scale`, rates ×
+    /// `rate_scale`: every value passes the range checks.
+    fn gentle(amp: f64, angle_scale: f64, rate_scale: f64) -> String {
+        let mut s = COLUMNS.join(",") + "\n";
+        for k in 0..200 {
+            let t = f64::from(k) * 0.02;
+            let w = std::f64::consts::PI;
+            let roll = angle_scale * amp * (w * t).sin();
+            let p = rate_scale * amp * w * (w * t).cos();
+            s += &format!("{t},0.5,0.1,0,0,{roll},0,0,0,0,0,{p},0,0\n");
+        }
+        s
+    }
+
+    #[test]
+    fn rate_and_attitude_units_judged_from_the_data() {
+        let deg = 180.0 / std::f64::consts::PI;
+        assert!(parse_log("ok.csv", gentle(0.1, 1.0, 1.0).as_bytes()).is_ok());
+        let e = parse_log("r.csv", gentle(0.1, 1.0, deg).as_bytes()).expect_err("deg/s");
+        assert!(
+            matches!(e.kind, LogErrorKind::RatesLookLikeDegrees { ratio } if (40.0..80.0).contains(&ratio)),
+            "{e}"
+        );
+        let e = parse_log("a.csv", gentle(0.03, deg, 1.0).as_bytes()).expect_err("deg");
+        assert!(
+            matches!(e.kind, LogErrorKind::AttitudeLooksLikeDegrees { ratio } if (40.0..80.0).contains(&ratio)),
+            "{e}"
         );
     }
 }
