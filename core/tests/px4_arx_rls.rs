@@ -46,12 +46,14 @@ impl<const N: usize, const M: usize, const D: usize, const P: usize, const PP: u
         if self.samples <= N + M + D {
             return;
         }
+        // φ = [−y(k−1) … −y(k−N), u(k−D) … u(k−D−M)].
         let mut phi = [0.0f32; P];
-        for i in 0..N {
-            phi[i] = -self.y[N - 1 - i];
-        }
-        for j in 0..=M {
-            phi[N + j] = self.u[M - j];
+        for (i, p) in phi.iter_mut().enumerate() {
+            *p = if i < N {
+                -self.y[N - 1 - i]
+            } else {
+                self.u[M - (i - N)]
+            };
         }
         self.rls.update(&phi, self.y[N]).unwrap();
     }

@@ -5,13 +5,13 @@ pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
 pub mod flight_report;
+#[path = "../../core/tests/support/golden.rs"]
 pub mod golden;
 pub mod import;
 pub mod log;
 pub mod onboard;
 pub mod plant;
 pub mod precision;
-pub mod rate_units;
 pub mod reference;
 pub mod report;
 

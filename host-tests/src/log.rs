@@ -86,33 +86,22 @@ pub enum LogErrorKind {
         /// Fields in the header.
         expected: usize,
     },
-    /// A row has more fields than the header.
-    #[error("row has {found} fields, the header has {expected} (decimal commas? use '.' for decimals and ',' between fields)")]
-    ExtraFields {
+    /// A row has more fields than the header (often decimal commas splitting numbers).
+    #[error("row has {found} fields, the header has {expected}{hint}")]
+    ExtraField {
         /// Fields in the row.
         found: usize,
         /// Fields in the header.
         expected: usize,
+        /// A hint when the extra fields look like decimal commas.
+        hint: &'static str,
     },
-    /// A number written with a decimal comma (`0,5`).
+    /// A field written with a decimal comma (`"0,5"`, quoted so it stays one field).
     #[error("`{0}` has a decimal comma? use '.' for decimals")]
     DecimalComma(String),
     /// The header is separated by `;` (a spreadsheet's export with decimal commas).
-    #[error("the header is separated by ';'; the format separates fields by ',' and uses '.' for decimals")]
+    #[error("the header is separated by ';'; the format separates fields with ',' and writes decimals with '.'")]
     Semicolons,
-    /// The logged body rates are about 57 times the attitude's rate of change: deg/s.
-    #[error("the body rates are {ratio:.1} times what the attitude's rate of change implies; are p_radps, q_radps, r_radps in deg/s?")]
-    RatesLookLikeDegrees {
-        /// Logged rates over attitude-implied rates (1 for rad/s, 57.3 for deg/s).
-        ratio: f64,
-    },
-    /// The logged body rates are about 1/57 of the attitude's rate of change: the angles are in
-    /// degrees (small enough to pass the range check).
-    #[error("the attitude changes {ratio:.1} times faster than the body rates imply; are roll_rad, pitch_rad, yaw_rad in degrees?")]
-    AttitudeLooksLikeDegrees {
-        /// Attitude-implied rates over logged rates (1 for radians, 57.3 for degrees).
-        ratio: f64,
-    },
     /// A field is not a number.
     #[error("not a number: `{0}`")]
     NotANumber(String),
@@ -300,13 +289,22 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
             continue;
         }
         if record.len() > header.len() {
+            // "0,5" in a comma-separated file is two fields: a decimal comma shows up as extra
+            // fields whose text is all digits.
+            let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+            let hint = if record.iter().skip(1).any(digits) {
+                " (decimal commas? the format separates fields with ',' and writes decimals with '.')"
+            } else {
+                ""
+            };
             return Err(err(
                 file,
                 Some(line),
                 None,
-                LogErrorKind::ExtraFields {
+                LogErrorKind::ExtraField {
                     found: record.len(),
                     expected: header.len(),
+                    hint,
                 },
             ));
         }
@@ -392,20 +390,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
     if out.is_empty() {
         return Err(err(file, Some(header_line), None, LogErrorKind::NoSamples));
     }
-    check_rate_units(file, &out)?;
     Ok(out)
-}
-
-/// Rejects body rates that are about 57 times the attitude's rate of change (deg/s in a rad/s
-/// column) or about 1/57 of it (attitude in degrees), see [`rate_units`](crate::rate_units); calm or short logs pass unjudged.
-pub fn check_rate_units(file: &str, samples: &[SensorSample]) -> Result<(), LogError> {
-    use crate::rate_units::{rate_gain, DEGREES_BELOW};
-    let kind = match rate_gain(samples) {
-        Some(k) if k < DEGREES_BELOW => LogErrorKind::RatesLookLikeDegrees { ratio: 1.0 / k },
-        Some(k) if k > 1.0 / DEGREES_BELOW => LogErrorKind::AttitudeLooksLikeDegrees { ratio: k },
-        _ => return Ok(()),
-    };
-    Err(err(file, None, None, kind))
 }
 
 /// Range check of column `k` of [`COLUMNS`].
@@ -443,24 +428,71 @@ pub fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
     }
 }
 
-/// Fewest samples `identify` accepts in a log (1 s at 50 Hz): fewer give a Table 4 from a
-/// handful of steps.
-pub const MIN_SAMPLES: usize = 50;
+/// Fewer samples than this (2 s at 50 Hz) cannot show anything about a model.
+pub const MIN_USEFUL_SAMPLES: usize = 100;
 
-/// Below this many samples (10 s at 50 Hz) `identify` warns that the errors are noisy.
-pub const FEW_SAMPLES: usize = 500;
+/// The body rates' RMS over the attitude's rate of change (Euler-angle derivatives, rad/s),
+/// over the samples where the attitude moves: about 1 when the rates are in rad/s (for
+/// moderate attitudes the two agree), about 57 when they are in deg/s. `None` when the
+/// attitude hardly moves (under 0.01 rad/s RMS) or there are too few samples.
+pub fn rate_unit_ratio(samples: &[SensorSample]) -> Option<f64> {
+    let wrap = |a: f64| {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        a - two_pi * (a / two_pi).round()
+    };
+    // Over spans of SPAN samples (0.2 s at 50 Hz), so that the attitude's noise, differentiated,
+    // does not swamp its rate of change; the body rates are averaged over the same span.
+    const SPAN: usize = 10;
+    let (mut euler, mut body, mut n) = (0.0, 0.0, 0usize);
+    for w in samples.windows(SPAN + 1).step_by(SPAN) {
+        let (a, b) = (&w[0], &w[SPAN]);
+        let dt = b.t - a.t;
+        if !(dt > 0.0 && dt < 1.0) {
+            continue;
+        }
+        let d = [
+            wrap(b.roll - a.roll) / dt,
+            wrap(b.pitch - a.pitch) / dt,
+            wrap(b.yaw - a.yaw) / dt,
+        ];
+        let mean = |f: fn(&SensorSample) -> f64| w[..SPAN].iter().map(f).sum::<f64>() / SPAN as f64;
+        let m = [mean(|s| s.p), mean(|s| s.q), mean(|s| s.r)];
+        euler += d.iter().map(|x| x * x).sum::<f64>();
+        body += m.iter().map(|x| x * x).sum::<f64>();
+        n += 1;
+    }
+    if n < 5 {
+        return None;
+    }
+    let (euler, body) = ((euler / n as f64).sqrt(), (body / n as f64).sqrt());
+    (euler > 0.01).then(|| body / euler)
+}
 
 /// Warnings about usable but doubtful data: the collective at or below zero (the models
-/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive), and a
-/// short log (under [`FEW_SAMPLES`]).
+/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive), body rates
+/// that look like deg/s although every value is within the rad/s range, and logs too short to
+/// show anything (or angles that look like degrees by the same comparison).
 pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     let mut out = Vec::new();
-    if samples.len() < FEW_SAMPLES {
+    if samples.len() < MIN_USEFUL_SAMPLES {
         out.push(format!(
-            "{file}: only {} samples ({:.1} s); one-step errors from fewer than {FEW_SAMPLES} samples (10 s) are noisy",
+            "{file}: only {} samples ({:.2} s); errors over fewer than {MIN_USEFUL_SAMPLES} samples say little about a model",
             samples.len(),
-            samples.len() as f64 / 50.0
+            samples.last().map_or(0.0, |l| l.t) - samples.first().map_or(0.0, |f| f.t)
         ));
+    }
+    if let Some(ratio) = rate_unit_ratio(samples) {
+        if ratio > 20.0 {
+            out.push(format!(
+                "{file}: the body rates are {ratio:.0} times the attitude's rate of change; in rad/s they should be about equal (57 = deg/s): are p_radps, q_radps, r_radps in deg/s?"
+            ));
+        } else if ratio < 1.0 / 20.0 {
+            // Angles in degrees small enough for the range check (a gentle flight).
+            out.push(format!(
+                "{file}: the attitude changes {:.0} times faster than the body rates; they should be about equal (57 = degrees): are roll_rad, pitch_rad, yaw_rad in degrees?",
+                1.0 / ratio
+            ));
+        }
     }
     if let Some((i, s)) = samples
         .iter()
@@ -549,36 +581,6 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "x.csv: line 3, column 2 (`u_col`): not a number: `abc`"
-        );
-    }
-
-    /// A gentle roll oscillation (amplitude `amp` rad, 0.5 Hz), angles × `angle_scale`, rates ×
-    /// `rate_scale`: every value passes the range checks.
-    fn gentle(amp: f64, angle_scale: f64, rate_scale: f64) -> String {
-        let mut s = COLUMNS.join(",") + "\n";
-        for k in 0..200 {
-            let t = f64::from(k) * 0.02;
-            let w = std::f64::consts::PI;
-            let roll = angle_scale * amp * (w * t).sin();
-            let p = rate_scale * amp * w * (w * t).cos();
-            s += &format!("{t},0.5,0.1,0,0,{roll},0,0,0,0,0,{p},0,0\n");
-        }
-        s
-    }
-
-    #[test]
-    fn rate_and_attitude_units_judged_from_the_data() {
-        let deg = 180.0 / std::f64::consts::PI;
-        assert!(parse_log("ok.csv", gentle(0.1, 1.0, 1.0).as_bytes()).is_ok());
-        let e = parse_log("r.csv", gentle(0.1, 1.0, deg).as_bytes()).expect_err("deg/s");
-        assert!(
-            matches!(e.kind, LogErrorKind::RatesLookLikeDegrees { ratio } if (40.0..80.0).contains(&ratio)),
-            "{e}"
-        );
-        let e = parse_log("a.csv", gentle(0.03, deg, 1.0).as_bytes()).expect_err("deg");
-        assert!(
-            matches!(e.kind, LogErrorKind::AttitudeLooksLikeDegrees { ratio } if (40.0..80.0).contains(&ratio)),
-            "{e}"
         );
     }
 }

@@ -312,90 +312,134 @@ fn malformed_logs_give_positioned_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 12's CLI findings: each is an error (or a warning) now.
-#[test]
-fn cli_findings_of_issue_12() {
-    let dir = tmpdir("findings");
+mod found_as_a_new_user {
+    use host_tests::experiments::identification_flight_for;
+    use host_tests::log::{parse_log, rate_unit_ratio, warnings, write_log_to};
 
-    // A row with more fields than the header.
-    let e = malformed(
-        &dir,
-        "extra",
-        &with_row(3, "0.06,0.5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03,7"),
-    );
-    assert!(
-        e.contains("line 5") && e.contains("15 fields, the header has 14"),
-        "{e}"
-    );
+    fn csv(samples: &[host_tests::plant::SensorSample]) -> String {
+        let mut v = Vec::new();
+        write_log_to(&mut v, samples).unwrap();
+        String::from_utf8(v).unwrap()
+    }
 
-    // Decimal commas: unquoted (extra fields), quoted, or a `;`-separated export.
-    let e = malformed(
-        &dir,
-        "comma",
-        &with_row(2, "0,04,0,5,0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
-    );
-    assert!(e.contains("line 4") && e.contains("decimal comma"), "{e}");
-    let e = malformed(
-        &dir,
-        "quoted",
-        &with_row(2, "0.04,\"0,5\",0.4,0,0.03,0.08,0,0,0.1,0,0,0.01,0.02,0.03"),
-    );
-    assert!(
-        e.contains("line 4, column 2 (`u_col`)") && e.contains("decimal comma"),
-        "{e}"
-    );
-    let semi: Vec<String> = rows(10).iter().map(|r| r.replace(',', ";")).collect();
-    let e = malformed(
-        &dir,
-        "semicolon",
-        &format!("{}\n{}\n", HEADER.replace(',', ";"), semi.join("\n")),
-    );
-    assert!(e.contains("line 1") && e.contains("';'"), "{e}");
+    #[test]
+    fn gentle_rates_in_deg_per_s_are_caught_from_the_attitude() {
+        let flight = identification_flight_for(1, 60.0).unwrap();
+        let ratio = rate_unit_ratio(&flight).unwrap();
+        assert!((0.5..2.0).contains(&ratio), "rad/s: {ratio}");
+        assert!(warnings("f.csv", &flight)
+            .iter()
+            .all(|w| !w.contains("deg/s")));
+        // The same flight with rates in deg/s, all still under the 34.9 rad/s range check.
+        let mut deg = flight.clone();
+        for s in &mut deg {
+            s.p = s.p.to_degrees();
+            s.q = s.q.to_degrees();
+            s.r = s.r.to_degrees();
+        }
+        // The gentle start of the flight: every rate under 34.9 deg/s, which the range check
+        // (34.9 rad/s) cannot tell from rad/s.
+        let gentle = deg
+            .iter()
+            .position(|s| s.p.abs().max(s.q.abs()).max(s.r.abs()) >= 34.9)
+            .unwrap_or(deg.len());
+        assert!(gentle >= 500, "{gentle}");
+        let deg = &deg[..gentle];
+        let parsed = parse_log("deg.csv", csv(deg).as_bytes()).unwrap();
+        let w = warnings("deg.csv", &parsed);
+        assert!(w.iter().any(|w| w.contains("deg/s")), "{w:?}");
+    }
 
-    // Gentle rates in deg/s (all under 34.9): caught against the attitude's rate of change,
-    // while the same flight in rad/s passes that check.
-    let gentle = |scale: f64| -> String {
-        let rows: Vec<String> = (0..100)
-            .map(|k| {
-                let t = k as f64 * 0.02;
-                let w = std::f64::consts::PI;
-                format!(
-                    "{t},0.5,0.4,0,0.03,{},0,0,0.1,0,0,{},0,0",
-                    0.1 * (w * t).sin(),
-                    scale * 0.1 * w * (w * t).cos()
-                )
+    #[test]
+    fn extra_fields_and_decimal_commas_are_refused_with_a_hint() {
+        let flight = identification_flight_for(1, 0.1).unwrap();
+        let text = csv(&flight);
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[2].push_str(",7");
+        let e = parse_log("x.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("has 15 fields, the header has 14"),
+            "{e}"
+        );
+        // A decimal comma: "0.5" written "0,5" splits one field into two.
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[3] = lines[3].replacen('.', ",", 1);
+        let e = parse_log("y.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(e.to_string().contains("decimal commas"), "{e}");
+    }
+
+    #[test]
+    fn a_two_row_log_is_flagged_as_too_short() {
+        let flight = identification_flight_for(1, 0.04).unwrap();
+        assert_eq!(flight.len(), 2);
+        assert!(warnings("short.csv", &flight)
+            .iter()
+            .any(|w| w.contains("only 2 samples")));
+    }
+
+    #[test]
+    fn quoted_decimal_commas_and_semicolon_exports_get_the_same_advice() {
+        let flight = identification_flight_for(1, 0.1).unwrap();
+        let text = csv(&flight);
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        // A spreadsheet's quoted field keeps "0,5" in one field.
+        let fields: Vec<&str> = lines[2].split(',').collect();
+        let quoted = format!("\"{}\"", fields[1].replacen('.', ",", 1));
+        lines[2] = [fields[0], &quoted]
+            .into_iter()
+            .chain(fields[2..].iter().copied())
+            .collect::<Vec<_>>()
+            .join(",");
+        let e = parse_log("q.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 3, column 2 (`u_col`)")
+                && e.to_string().contains("decimal comma"),
+            "{e}"
+        );
+        // A `;`-separated export: the header is one field.
+        let semi = text.replace(',', ";");
+        let e = parse_log("s.csv", semi.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 1") && e.to_string().contains("';'"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn gentle_angles_in_degrees_are_caught_from_the_rates() {
+        // A gentle roll oscillation (±0.03 rad at 0.5 Hz): in degrees (±1.7) it still passes
+        // the radian range check (|φ| ≤ 3.2).
+        let mut flight = identification_flight_for(1, 4.0).unwrap();
+        let w = std::f64::consts::PI;
+        for s in &mut flight {
+            (s.roll, s.pitch, s.yaw) = (0.03 * (w * s.t).sin(), 0.0, 0.0);
+            (s.p, s.q, s.r) = (0.03 * w * (w * s.t).cos(), 0.0, 0.0);
+        }
+        assert!(warnings("a.csv", &flight)
+            .iter()
+            .all(|w| !w.contains("in degrees")));
+        let deg: Vec<_> = flight
+            .iter()
+            .map(|s| host_tests::plant::SensorSample {
+                roll: s.roll.to_degrees(),
+                ..*s
             })
             .collect();
-        format!("{HEADER}\n{}\n", rows.join("\n"))
-    };
-    let e = malformed(&dir, "gentledeg", &gentle(180.0 / std::f64::consts::PI));
-    assert!(e.contains("deg/s") && e.contains("times"), "{e}");
-    let ok = dir.join("gentlerad.csv");
-    std::fs::write(&ok, gentle(1.0)).expect("write");
-    let o = run(bin()
-        .args(["identify", "--no-plots", "--train"])
-        .arg(&ok)
-        .arg("--verify")
-        .arg(&ok)
-        .arg("--out")
-        .arg(dir.join("out")));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    assert!(
-        text(&o.stderr).contains("only 100 samples"),
-        "{}",
-        text(&o.stderr)
-    );
+        assert!(deg.iter().all(|s| s.roll.abs() < 3.2));
+        let w = warnings("a.csv", &deg);
+        assert!(
+            w.iter()
+                .any(|w| w.contains("roll_rad, pitch_rad, yaw_rad in degrees")),
+            "{w:?}"
+        );
+    }
+}
 
-    // Two rows: refused (below the documented minimum of 50 samples).
-    let e = malformed(
-        &dir,
-        "tworows",
-        &format!("{HEADER}\n{}\n", rows(2).join("\n")),
-    );
-    assert!(e.contains("2 samples") && e.contains("at least 50"), "{e}");
-
-    // An identification flight longer than its sweeps: an error, not a silent clamp.
-    let o = run(bin()
+#[test]
+fn identification_duration_beyond_the_sweeps_is_an_error_not_a_silent_clamp() {
+    let dir = std::env::temp_dir().join(format!("rotorid-cli-clamp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rotorid"))
         .args([
             "simulate",
             "--kind",
@@ -404,9 +448,11 @@ fn cli_findings_of_issue_12() {
             "999",
             "-o",
         ])
-        .arg(dir.join("long.csv")));
-    assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o.stderr).contains("255"), "{}", text(&o.stderr));
-    assert!(!dir.join("long.csv").exists());
+        .arg(dir.join("x.csv"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("lasts") && err.contains("999"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

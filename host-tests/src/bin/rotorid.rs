@@ -54,8 +54,7 @@ enum Command {
         /// Seed of noise, turbulence, jitter and (verification) manoeuvres.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Duration (s). Identification: at most the 255 s of the sweeps (default all; longer is
-        /// an error);
+        /// Duration (s). Identification: at most the 255 s of the sweeps (default all);
         /// verification: default 120 s.
         #[arg(long)]
         duration: Option<f64>,
@@ -181,10 +180,12 @@ fn run_simulate(
             return Err(format!("--duration must be in (0, 36000] s, got {d}"));
         }
     }
-    let sweeps_s = experiments::identification_duration_s();
     if let (Kind::Identification, Some(d)) = (kind, duration) {
-        if d > sweeps_s {
-            return Err(format!("--duration {d}: the identification flight (the four Table 2 sweeps) lasts {sweeps_s} s at most"));
+        let full = experiments::identification_duration_s();
+        if d > full {
+            return Err(format!(
+                "--duration {d} s: the identification flight (the four Table 2 sweeps) lasts {full} s; give at most that, or fly a verification flight for longer"
+            ));
         }
     }
     let samples = match (kind, clean) {
@@ -241,34 +242,36 @@ fn clean_config(seed: u64) -> FlightConfig {
     }
 }
 
-/// Reads a log of any format (CSV, ULog, DataFlash) and its warnings; `all`: every usable
-/// segment (training), else the longest (verification).
+/// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:
+/// every usable segment (training), else the longest (verification).
 fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, String> {
     let imported = import::import(path).map_err(|e| e.to_string())?;
-    for n in &imported.notes {
-        eprintln!("note: {n}");
-    }
-    let name = path.display().to_string();
     let segments = import::segments_for_identify(&imported, all);
-    for seg in &segments {
-        for w in log::warnings(&name, seg) {
-            eprintln!("warning: {w}");
-        }
-    }
+    report_import(path, &imported, &segments);
     Ok(segments
         .iter()
         .map(|s| experiments::to_hover_samples(s))
         .collect())
 }
 
-fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
-    let imported = import::import(input).map_err(|e| e.to_string())?;
+/// Prints an import's notes and the warnings on the segments used.
+fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segment]) {
     for n in &imported.notes {
         eprintln!("note: {n}");
     }
+    for seg in used {
+        for w in log::warnings(&path.display().to_string(), seg) {
+            eprintln!("warning: {w}");
+        }
+    }
+}
+
+fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
+    let imported = import::import(input).map_err(|e| e.to_string())?;
     let seg = imported
         .longest()
         .ok_or_else(|| format!("{}: no samples", input.display()))?;
+    report_import(input, &imported, &[seg]);
     log::write_log(output, seg).map_err(|e| e.to_string())?;
     eprintln!(
         "wrote {} samples ({:.2}–{:.2} s, the longest of {} segments) to {}",
@@ -300,30 +303,15 @@ fn run_identify(
         return Err(format!("--window must be in (0, 3600] s, got {window}"));
     }
     let mut training = Vec::new();
-    let mut train_names = Vec::new();
     for p in train {
-        for seg in read(p, true)? {
-            training.push(seg);
-            train_names.push(p.as_path());
-        }
+        training.extend(read(p, true)?);
     }
     let verification = read(verify, false)?
         .into_iter()
         .next()
         .ok_or_else(|| format!("{}: no samples", verify.display()))?;
-    for (path, n) in train_names
-        .iter()
-        .copied()
-        .zip(training.iter().map(Vec::len))
-        .chain([(verify, verification.len())])
-    {
-        if n < log::MIN_SAMPLES {
-            return Err(format!(
-                "{}: {n} samples; identify needs at least {} (1 s at 50 Hz)",
-                path.display(),
-                log::MIN_SAMPLES
-            ));
-        }
+    if verification.len() < 2 {
+        return Err(format!("{}: needs at least 2 samples", verify.display()));
     }
     let warm: Option<Vec<ModelParameters>> = match warm_start {
         Some(p) => {
