@@ -130,3 +130,17 @@ proptest! {
         prop_assert_eq!(dec.stats().lost_frames as usize, expected_lost);
     }
 }
+
+/// Found by `scripts/fuzz.sh` (target `messages`): an `Estimate` whose `error` had code 0 (none)
+/// with non-zero unused fields, and whose innovation floats were non-zero without the
+/// innovation flag, parsed into a value that wrote back to other bytes. Only the canonical
+/// encoding is accepted now.
+#[test]
+fn fuzz_regression_non_canonical_estimate_is_refused() {
+    let hex = "01000000000000000000000000000000003100000000c7000000000000000000000000000000000000000000000000520000000000000000c7c7c7c7bfbfbfc7c7c7c7c7c7c72fc7c7c7c7c7c7c700000000000000000000000000a900000000000000000000ffffffffffffffffffffffffffff0000000000000000000000000000000000000000000000000000000000000000000000000000000000000003007a000000008e69000000";
+    let bytes: Vec<u8> = (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
+        .collect();
+    assert!(rotorid_link::msg::Estimate::read(&bytes).is_err());
+}

@@ -619,6 +619,25 @@ pub fn read_error(r: &mut Reader<'_>) -> Result<Option<Error>, PayloadError> {
     let (code, detail, index) = (r.get_u8()?, r.get_u8()?, r.get_u16()?);
     let (a, b, c) = (r.get_u64()?, r.get_u64()?, r.get_u64()?);
     let bad = PayloadError::InvalidValue;
+    let error = decode_error(code, detail, index, [a, b, c])?;
+    // Only the canonical encoding is accepted (unused fields zero), so that every accepted
+    // payload writes back to the same bytes: re-encode and compare.
+    let mut again = [0u8; ERROR_LEN];
+    write_error(&mut Writer::new(&mut again), error.as_ref())?;
+    if again.as_slice() != bytes {
+        return Err(bad);
+    }
+    Ok(error)
+}
+
+/// The error of a decoded `code, detail, index, [a, b, c]`.
+fn decode_error(
+    code: u8,
+    detail: u8,
+    index: u16,
+    [a, b, c]: [u64; 3],
+) -> Result<Option<Error>, PayloadError> {
+    let bad = PayloadError::InvalidValue;
     Ok(Some(match code {
         0 => return Ok(None),
         1 => Error::NonFinite(quantity_from(detail, index).ok_or(bad)?),
@@ -692,6 +711,10 @@ impl IdOutput {
         let mut inn = [0f32; 6];
         for v in &mut inn {
             *v = r.get_f32()?;
+        }
+        // Without an innovation its six floats are written as zeros: accept only that.
+        if flags == 0 && inn.iter().any(|v| v.to_bits() != 0) {
+            return Err(PayloadError::InvalidValue);
         }
         Ok(Self {
             prediction,
