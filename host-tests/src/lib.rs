@@ -7,6 +7,7 @@ pub mod firmware_link;
 pub mod flight_report;
 pub mod golden;
 pub mod log;
+pub mod mavlink;
 pub mod onboard;
 pub mod plant;
 pub mod precision;

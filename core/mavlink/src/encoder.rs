@@ -167,7 +167,8 @@ impl Encoder {
     }
 
     /// `STATUSTEXT` (id 253), severity `MAV_SEVERITY_WARNING`: `"<tag>: <error>"` for a sample
-    /// the core rejected (its state is then unchanged), cut to 50 bytes at a character boundary.
+    /// the core rejected (its state is then unchanged), in ASCII (Greek letters and `µ` spelled
+    /// out: `θ` → `theta`, `µs` → `us`; other non-ASCII → `?`), cut to the field's 50 bytes.
     pub fn rejected(
         &mut self,
         ident: &Ident,
@@ -291,7 +292,9 @@ impl Name {
     }
 }
 
-/// STATUSTEXT's text: UTF-8, cut at the last whole character that fits.
+/// STATUSTEXT's text in ASCII: the core's messages use a few Greek letters and `µ`, which are
+/// spelled out (pymavlink and MAVProxy decode the field as ASCII); anything else non-ASCII
+/// becomes `?`. Cut at the field's 50 bytes.
 struct Text {
     bytes: [u8; TEXT_LEN],
     len: usize,
@@ -306,18 +309,36 @@ impl Default for Text {
     }
 }
 
+/// ASCII spelling of a character of the core's error messages.
+fn ascii(c: char) -> &'static str {
+    match c {
+        'µ' | 'μ' => "u",
+        'α' => "alpha",
+        'λ' => "lambda",
+        'θ' => "theta",
+        'φ' => "phi",
+        'ψ' => "psi",
+        'ξ' => "xi",
+        '…' => "..",
+        _ => "?",
+    }
+}
+
 impl core::fmt::Write for Text {
     fn write_str(&mut self, s: &str) -> core::fmt::Result {
         for c in s.chars() {
-            let mut utf8 = [0u8; 4];
-            let enc = c.encode_utf8(&mut utf8).as_bytes();
-            let Some(dst) = self.bytes.get_mut(self.len..self.len + enc.len()) else {
-                // Full: drop the rest (keeps what fitted, never a partial character).
-                self.len = TEXT_LEN;
-                return Ok(());
+            let mut one = [0u8; 4];
+            let part = if c.is_ascii() {
+                &*c.encode_utf8(&mut one)
+            } else {
+                ascii(c)
             };
-            dst.copy_from_slice(enc);
-            self.len += enc.len();
+            for &b in part.as_bytes() {
+                if let Some(d) = self.bytes.get_mut(self.len) {
+                    *d = b;
+                    self.len += 1;
+                }
+            }
         }
         Ok(())
     }

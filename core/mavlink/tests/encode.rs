@@ -141,22 +141,31 @@ fn convergence_names_values_and_mask() {
 }
 
 #[test]
-fn rejected_samples_become_warnings_cut_at_a_character() {
+fn rejected_samples_become_ascii_warnings_cut_to_the_field() {
     let mut enc = Encoder::new(1, 1);
     let mut buf = [0u8; MAX_FRAME_LEN];
-    let err = rotorid::Error::Numerical;
-    let n = enc.rejected(&ts(), &err, &mut buf).unwrap();
-    let MavMessage::STATUSTEXT(s) = &decode(&buf[..n])[0].3 else {
-        panic!("kind")
-    };
-    assert_eq!(s.severity as u8, 4, "MAV_SEVERITY_WARNING");
-    let full = format!("ts: {err}");
-    let text = name(&*s.text);
-    let mut cut = full.len().min(50);
-    while !full.is_char_boundary(cut) {
-        cut -= 1;
+    let cases = [
+        (
+            rotorid::Error::TimeStep {
+                dt_us: 41_000,
+                min_us: 10_000,
+                max_us: 30_000,
+            },
+            "ts: sample interval 41000 us outside the accepted ",
+        ),
+        (
+            rotorid::Error::NonFinite(rotorid::Quantity::Parameter(3)),
+            "ts: parameter theta[3] is not finite",
+        ),
+    ];
+    for (err, want) in cases {
+        let n = enc.rejected(&ts(), &err, &mut buf).unwrap();
+        let MavMessage::STATUSTEXT(s) = &decode(&buf[..n])[0].3 else {
+            panic!("kind")
+        };
+        assert_eq!(s.severity as u8, 4, "MAV_SEVERITY_WARNING");
+        assert_eq!(name(&*s.text), want, "{err}");
     }
-    assert_eq!(text, full[..cut]);
 }
 
 #[test]
