@@ -40,7 +40,7 @@ pub use dialect::MavState;
 pub use encoder::Encoder;
 
 /// Largest MAVLink 2 frame (signed, full payload), in bytes: a buffer this long fits any frame
-/// the [`Encoder`] writes (a full `DEBUG_FLOAT_ARRAY` is 268 bytes, unsigned).
+/// the [`Encoder`] writes (a full `DEBUG_FLOAT_ARRAY` is 264 bytes).
 pub const MAX_FRAME_LEN: usize = mavlink_core::consts::MAX_FRAME_SIZE;
 
 /// Why a frame was not written.

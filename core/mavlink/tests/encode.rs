@@ -204,3 +204,28 @@ fn idents_and_array_ids() {
     assert_eq!(ArrayId::from_u16(0x0101), None, "a step has no chunks");
     assert_eq!(ArrayId::from_u16(0x0600), None);
 }
+
+/// The sizes docs/protocol.md quotes for its bandwidth figures.
+#[test]
+fn documented_frame_sizes() {
+    let mut enc = Encoder::new(1, 25);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    assert_eq!(enc.heartbeat(MavState::MAV_STATE_ACTIVE, &mut buf), Ok(21));
+    let inn = [0.5f32; 6];
+    assert_eq!(enc.step(&ts(), 1, &[1.0; 6], Some(&inn), &mut buf), Ok(80));
+    assert_eq!(enc.step(&ts(), 1, &[1.0; 6], None, &mut buf), Ok(80));
+    let theta = [1.0f32; ARRAY_LEN];
+    assert_eq!(
+        enc.theta(&ts(), Model::Velocity, 0, 1, &theta, &mut buf),
+        Ok(264)
+    );
+    let status = ConvergenceStatus::<f32, 6> {
+        ratio: [0.5; 6],
+        change: [0.0; 6],
+        settled: [0; 6],
+        converged: [false; 6],
+        windows: 1,
+    };
+    let mut frames = [0u8; 7 * MAX_FRAME_LEN];
+    assert_eq!(enc.convergence(&ts(), 1, &status, &mut frames), Ok(7 * 27));
+}
