@@ -1,16 +1,23 @@
 //! rotorid's MAVLink 2 telemetry of a whole identification run, and what an independent
-//! decoder must find in it (the pymavlink test, `tests/mavlink_pymavlink.rs`).
+//! decoder must find in it (the pymavlink tests, `tests/mavlink_pymavlink.rs` on the host
+//! build and `tests/firmware_mavlink.rs` on the firmware's UART1 under QEMU).
 //!
 //! [`identification_stream`] runs the onboard pair ([`Mirror`]: the firmware's fuzzy and plain
-//! identifiers, host build) over a flight and encodes, with [`rotorid_mavlink::Encoder`], what a
-//! vehicle would send: a heartbeat every [`HEARTBEAT_EVERY`] samples, one step array per
-//! identifier and sample (or a STATUSTEXT when the core rejected it), convergence values at the
-//! end of each window, and θ of every model at the end. Beside the bytes it lists every message
-//! with its expected fields straight from the Rust values (floats as f32 bit patterns).
+//! identifiers, host build) over samples and encodes, with [`rotorid_mavlink::Encoder`], what the
+//! example firmware sends (`firmware-example/src/mavlink_port.rs`): a heartbeat at the start and
+//! after every [`HEARTBEAT_EVERY`] samples, one step array per identifier and sample (or a
+//! STATUSTEXT when the core rejected it), optionally convergence values at the end of each
+//! window (host only), and θ of every model at the end (the firmware's answer to a
+//! `ParamsRequest` for the fuzzy, then the plain identifier). Beside the bytes it lists every
+//! message with its expected fields straight from the Rust values (floats as f32 bit
+//! patterns); [`check_with_pymavlink`] has pymavlink decode bytes and compare.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use rotorid::convergence::ConvergenceMonitor;
 use rotorid::hover::HoverSample;
-use rotorid::telemetry::msg::{IdOutput, SampleMode};
+use rotorid::telemetry::msg::{IdOutput, SampleMode, SampleMsg};
 use rotorid::HoverState;
 use rotorid_mavlink::{chunk_count, Encoder, Ident, MavState, Model, ARRAY_LEN, MAX_FRAME_LEN};
 use serde_json::{json, Value};
@@ -21,7 +28,8 @@ use crate::onboard::{messages, Mirror};
 pub const SYSTEM_ID: u8 = 1;
 /// Component id of the stream (`MAV_COMP_ID_USER1`).
 pub const COMPONENT_ID: u8 = 25;
-/// A heartbeat before the first sample and after every this many samples.
+/// A heartbeat before the first sample and after every this many samples (the firmware's
+/// `mavlink_port::HEARTBEAT_EVERY`).
 pub const HEARTBEAT_EVERY: usize = 100;
 /// Convergence window (samples), tolerance and settle count of the streamed indicator.
 pub const CONVERGENCE: (u32, f32, u16) = (200, 0.1, 3);
@@ -108,10 +116,10 @@ impl Writer {
     }
 }
 
-/// The telemetry of learning `flight` (every sample in Learn mode, one sample's velocity made
-/// NaN at `flight.len() / 2` so that both identifiers reject one sample for real; the sample
-/// after it resumes the chain, as a client must after a gap).
-pub fn identification_stream(flight: &[HoverSample<f32>]) -> Stream {
+/// Learning `flight`: every sample in Learn mode, one sample's velocity made NaN at
+/// `flight.len() / 2` so that both identifiers reject one sample for real, and the sample after
+/// it resuming the chain, as a client must after a gap.
+pub fn learn_with_one_rejection(flight: &[HoverSample<f32>]) -> Vec<SampleMsg> {
     let mut samples = messages(flight, SampleMode::Learn);
     let bad = samples.len() / 2;
     if let Some(m) = samples.get_mut(bad) {
@@ -120,6 +128,12 @@ pub fn identification_stream(flight: &[HoverSample<f32>]) -> Stream {
     if let Some(m) = samples.get_mut(bad + 1) {
         m.mode = SampleMode::Resume;
     }
+    samples
+}
+
+/// The telemetry of `samples` (see the module docs); convergence messages only if
+/// `convergence` (the example firmware runs no convergence monitor).
+pub fn identification_stream(samples: &[SampleMsg], convergence: bool) -> Stream {
     let mut mirror =
         Mirror::new(rotorid::telemetry::msg::RlsForm::UdDefault).expect("onboard identifiers");
     let (window, tolerance, settle) = CONVERGENCE;
@@ -138,16 +152,14 @@ pub fn identification_stream(flight: &[HoverSample<f32>]) -> Stream {
         },
     };
     let mut previous: Option<HoverSample<f32>> = None;
+    w.heartbeat();
     for (k, m) in samples.iter().enumerate() {
-        if k % HEARTBEAT_EVERY == 0 {
-            w.heartbeat();
-        }
         let est = mirror.apply(m);
         let time_ms = (m.sample.time_us / 1000) as u32;
         for ((ident, out), monitor) in idents.iter().zip([est.fuzzy, est.plain]).zip(&mut monitors)
         {
             w.output(ident, m.sample.time_us, &out);
-            let (Some(prev), Some(inn)) = (&previous, out.innovation) else {
+            let (true, Some(prev), Some(inn)) = (convergence, &previous, out.innovation) else {
                 continue;
             };
             let [a, b, c, q, r, p] = inn;
@@ -181,6 +193,9 @@ pub fn identification_stream(flight: &[HoverSample<f32>]) -> Stream {
         if est.fuzzy.error.is_none() {
             previous = Some(m.sample);
         }
+        if (k + 1) % HEARTBEAT_EVERY == 0 {
+            w.heartbeat();
+        }
     }
     let end = samples.last().map_or(0, |m| m.sample.time_us);
     for (ident, which) in idents.iter().zip([
@@ -193,4 +208,59 @@ pub fn identification_stream(flight: &[HoverSample<f32>]) -> Stream {
         }
     }
     w.stream
+}
+
+/// A python3 with pymavlink: `ROTORID_PYTHON`, else `.venv/` at the repository root (where
+/// `scripts/setup.sh` installs it), else `python3` on the path.
+pub fn python_with_pymavlink() -> Option<PathBuf> {
+    let root = repo_root();
+    let candidates = [
+        std::env::var_os("ROTORID_PYTHON").map(PathBuf::from),
+        Some(root.join(".venv/bin/python3")),
+        Some(PathBuf::from("python3")),
+    ];
+    candidates.into_iter().flatten().find(|p| {
+        Command::new(p)
+            .args(["-c", "import pymavlink.generator.mavgen"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
+}
+
+fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Has `python` decode `bytes` with pymavlink (`tests/mavlink_decode.py`, module generated by
+/// mavgen from `core/mavlink/dialect/rotorid.xml`) and compare every frame with `expected`,
+/// working in `work`. Returns the script's summary line, or its output on a mismatch.
+pub fn check_with_pymavlink(
+    python: &Path,
+    bytes: &[u8],
+    expected: &[Value],
+    work: &Path,
+) -> Result<String, String> {
+    let root = repo_root();
+    std::fs::create_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
+    let bin = work.join("stream.bin");
+    let json = work.join("expected.json");
+    std::fs::write(&bin, bytes).map_err(|e| format!("{}: {e}", bin.display()))?;
+    let text = serde_json::to_vec(expected).map_err(|e| e.to_string())?;
+    std::fs::write(&json, text).map_err(|e| format!("{}: {e}", json.display()))?;
+    let out = Command::new(python)
+        .arg(root.join("host-tests/tests/mavlink_decode.py"))
+        .arg(root.join("core/mavlink/dialect/rotorid.xml"))
+        .args([&bin, &json])
+        .arg(work)
+        .output()
+        .map_err(|e| format!("{}: {e}", python.display()))?;
+    let stdout = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    if out.status.success() {
+        Ok(stdout.lines().last().unwrap_or_default().to_string())
+    } else {
+        Err(format!(
+            "{stdout}\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
 }
