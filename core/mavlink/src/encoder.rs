@@ -136,34 +136,28 @@ impl Encoder {
             return Err(EncodeError::TooManyOutputs);
         }
         let first = self.sequence;
-        let result = self.convergence_frames(ident, time_boot_ms, status, out);
+        // All frames or none counted: on an error the sequence goes back to `first`.
+        let mut frames = || -> Result<usize, EncodeError> {
+            let mut written = 0;
+            let mut mask = 0u32;
+            for (i, (rho, converged)) in status.ratio.iter().zip(&status.converged).enumerate() {
+                let mut name = Name::new(ident);
+                name.push(b".rho");
+                name.decimal(i as u32);
+                let rest = out.get_mut(written..).unwrap_or(&mut []);
+                written += self.named(time_boot_ms, name, *rho, rest)?;
+                mask |= u32::from(*converged) << i;
+            }
+            let mut name = Name::new(ident);
+            name.push(b".conv");
+            let rest = out.get_mut(written..).unwrap_or(&mut []);
+            Ok(written + self.named(time_boot_ms, name, mask as f32, rest)?)
+        };
+        let result = frames();
         if result.is_err() {
             self.sequence = first;
         }
         result
-    }
-
-    fn convergence_frames<const M: usize>(
-        &mut self,
-        ident: &Ident,
-        time_boot_ms: u32,
-        status: &ConvergenceStatus<f32, M>,
-        out: &mut [u8],
-    ) -> Result<usize, EncodeError> {
-        let mut written = 0;
-        let mut mask = 0u32;
-        for (i, (rho, converged)) in status.ratio.iter().zip(&status.converged).enumerate() {
-            let mut name = Name::new(ident);
-            name.push(b".rho");
-            name.decimal(i as u32);
-            let rest = out.get_mut(written..).unwrap_or(&mut []);
-            written += self.named(time_boot_ms, name, *rho, rest)?;
-            mask |= u32::from(*converged) << i;
-        }
-        let mut name = Name::new(ident);
-        name.push(b".conv");
-        let rest = out.get_mut(written..).unwrap_or(&mut []);
-        Ok(written + self.named(time_boot_ms, name, mask as f32, rest)?)
     }
 
     /// `STATUSTEXT` (id 253), severity `MAV_SEVERITY_WARNING`: `"<tag>: <error>"` for a sample
