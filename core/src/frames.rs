@@ -16,6 +16,24 @@
 //! which would flip the signs of r and p. The identification does not depend on the choice:
 //! Table 3's sets are symmetric and the per-rule parameters absorb the sign. This crate uses
 //! the conventional signs throughout.
+//!
+//! ```
+//! use nalgebra::Vector3;
+//! use rotorid::frames::NedFrdSample;
+//! use rotorid::hover::{Attitude, Controls};
+//!
+//! // 1 m/s north, 2 m/s east, 0.5 m/s down; rolling right at 0.1 rad/s.
+//! let px4 = NedFrdSample::<f32> {
+//!     time_us: 20_000,
+//!     attitude: Attitude { roll: 0.05, pitch: -0.02, yaw: 1.0 },
+//!     velocity_ned: Vector3::new(1.0, 2.0, 0.5),
+//!     rates_frd: Vector3::new(0.1, 0.0, 0.0),
+//!     controls: Controls { col: 0.5, ped: 0.0, lon: 0.0, lat: 0.0 },
+//! };
+//! let s = px4.to_paper();
+//! assert_eq!(s.velocity, [2.0, -0.5, -1.0]); // [v_e, −v_d, −v_n]
+//! assert!((s.rates[2] - 5.729578).abs() < 1e-5); // p in deg/s, last of [q r p]
+//! ```
 
 use nalgebra::Vector3;
 

@@ -28,6 +28,24 @@
 //!
 //! Every update checks its inputs completely before it writes anything: on `Err` the
 //! estimator is unchanged, bit for bit.
+//!
+//! ```
+//! use rotorid::{Rls, RlsConfig};
+//!
+//! // y = 2 x₁ − 0.5 x₂, learnt from four measurements (U-D form, P(0) = 10⁶ I).
+//! let mut rls = Rls::<f32, 2, 3>::new(RlsConfig::default())?;
+//! for x in [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [2.0, -1.0]] {
+//!     let innovation = rls.update(&x, 2.0 * x[0] - 0.5 * x[1])?; // y − ξᵀθ before the step
+//!     assert!(innovation.is_finite());
+//! }
+//! let [a, b] = *rls.parameters();
+//! assert!((a - 2.0).abs() < 1e-3 && (b + 0.5).abs() < 1e-3);
+//! // A NaN is refused, and nothing changes.
+//! let before = rls.clone();
+//! assert!(rls.update(&[f32::NAN, 0.0], 1.0).is_err());
+//! assert_eq!(rls, before);
+//! # Ok::<(), rotorid::Error>(())
+//! ```
 
 use core::ops::Range;
 

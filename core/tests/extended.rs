@@ -1,5 +1,5 @@
-//! Issue 5 in the core: extended structures, regressor scaling, convergence indicator.
-#[path = "../../host-tests/src/golden.rs"]
+//! The extended structures, regressor scaling and the convergence indicator.
+#[path = "support/golden.rs"]
 #[allow(dead_code)]
 mod golden;
 

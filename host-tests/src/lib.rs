@@ -5,6 +5,7 @@ pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
 pub mod flight_report;
+#[path = "../../core/tests/support/golden.rs"]
 pub mod golden;
 pub mod log;
 pub mod mavlink;

@@ -86,6 +86,16 @@ pub enum LogErrorKind {
         /// Fields in the header.
         expected: usize,
     },
+    /// A row has more fields than the header (often decimal commas splitting numbers).
+    #[error("row has {found} fields, the header has {expected}{hint}")]
+    ExtraField {
+        /// Fields in the row.
+        found: usize,
+        /// Fields in the header.
+        expected: usize,
+        /// A hint when the extra fields look like decimal commas.
+        hint: &'static str,
+    },
     /// A field is not a number.
     #[error("not a number: `{0}`")]
     NotANumber(String),
@@ -269,6 +279,26 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
         if record.iter().all(str::is_empty) {
             continue;
         }
+        if record.len() > header.len() {
+            // "0,5" in a comma-separated file is two fields: a decimal comma shows up as extra
+            // fields whose text is all digits.
+            let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+            let hint = if record.iter().skip(1).any(digits) {
+                " (decimal commas? the format separates fields with ',' and writes decimals with '.')"
+            } else {
+                ""
+            };
+            return Err(err(
+                file,
+                Some(line),
+                None,
+                LogErrorKind::ExtraField {
+                    found: record.len(),
+                    expected: header.len(),
+                    hint,
+                },
+            ));
+        }
         let mut v = [0.0f64; 14];
         for (k, &i) in index.iter().enumerate() {
             let col = Some((i + 1, COLUMNS[k]));
@@ -388,10 +418,66 @@ fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
     }
 }
 
+/// Fewer samples than this (2 s at 50 Hz) cannot show anything about a model.
+pub const MIN_USEFUL_SAMPLES: usize = 100;
+
+/// The body rates' RMS over the attitude's rate of change (Euler-angle derivatives, rad/s),
+/// over the samples where the attitude moves: about 1 when the rates are in rad/s (for
+/// moderate attitudes the two agree), about 57 when they are in deg/s. `None` when the
+/// attitude hardly moves (under 0.01 rad/s RMS) or there are too few samples.
+pub fn rate_unit_ratio(samples: &[SensorSample]) -> Option<f64> {
+    let wrap = |a: f64| {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        a - two_pi * (a / two_pi).round()
+    };
+    // Over spans of SPAN samples (0.2 s at 50 Hz), so that the attitude's noise, differentiated,
+    // does not swamp its rate of change; the body rates are averaged over the same span.
+    const SPAN: usize = 10;
+    let (mut euler, mut body, mut n) = (0.0, 0.0, 0usize);
+    for w in samples.windows(SPAN + 1).step_by(SPAN) {
+        let (a, b) = (&w[0], &w[SPAN]);
+        let dt = b.t - a.t;
+        if !(dt > 0.0 && dt < 1.0) {
+            continue;
+        }
+        let d = [
+            wrap(b.roll - a.roll) / dt,
+            wrap(b.pitch - a.pitch) / dt,
+            wrap(b.yaw - a.yaw) / dt,
+        ];
+        let mean = |f: fn(&SensorSample) -> f64| w[..SPAN].iter().map(f).sum::<f64>() / SPAN as f64;
+        let m = [mean(|s| s.p), mean(|s| s.q), mean(|s| s.r)];
+        euler += d.iter().map(|x| x * x).sum::<f64>();
+        body += m.iter().map(|x| x * x).sum::<f64>();
+        n += 1;
+    }
+    if n < 5 {
+        return None;
+    }
+    let (euler, body) = ((euler / n as f64).sqrt(), (body / n as f64).sqrt());
+    (euler > 0.01).then(|| body / euler)
+}
+
 /// Warnings about usable but doubtful data: the collective at or below zero (the models
-/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive).
+/// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive), body rates
+/// that look like deg/s although every value is within the rad/s range, and logs too short to
+/// show anything.
 pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     let mut out = Vec::new();
+    if samples.len() < MIN_USEFUL_SAMPLES {
+        out.push(format!(
+            "{file}: only {} samples ({:.2} s); errors over fewer than {MIN_USEFUL_SAMPLES} samples say little about a model",
+            samples.len(),
+            samples.last().map_or(0.0, |l| l.t) - samples.first().map_or(0.0, |f| f.t)
+        ));
+    }
+    if let Some(ratio) = rate_unit_ratio(samples) {
+        if ratio > 20.0 {
+            out.push(format!(
+                "{file}: the body rates are {ratio:.0} times the attitude's rate of change; in rad/s they should be about equal (57 = deg/s): are p_radps, q_radps, r_radps in deg/s?"
+            ));
+        }
+    }
     if let Some((i, s)) = samples
         .iter()
         .enumerate()

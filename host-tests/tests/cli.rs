@@ -311,3 +311,91 @@ fn malformed_logs_give_positioned_errors() {
     assert!(text(&o.stderr).contains("nonexistent.csv"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+mod found_as_a_new_user {
+    use host_tests::experiments::identification_flight_for;
+    use host_tests::log::{parse_log, rate_unit_ratio, warnings, write_log_to};
+
+    fn csv(samples: &[host_tests::plant::SensorSample]) -> String {
+        let mut v = Vec::new();
+        write_log_to(&mut v, samples).unwrap();
+        String::from_utf8(v).unwrap()
+    }
+
+    #[test]
+    fn gentle_rates_in_deg_per_s_are_caught_from_the_attitude() {
+        let flight = identification_flight_for(1, 60.0).unwrap();
+        let ratio = rate_unit_ratio(&flight).unwrap();
+        assert!((0.5..2.0).contains(&ratio), "rad/s: {ratio}");
+        assert!(warnings("f.csv", &flight)
+            .iter()
+            .all(|w| !w.contains("deg/s")));
+        // The same flight with rates in deg/s, all still under the 34.9 rad/s range check.
+        let mut deg = flight.clone();
+        for s in &mut deg {
+            s.p = s.p.to_degrees();
+            s.q = s.q.to_degrees();
+            s.r = s.r.to_degrees();
+        }
+        // The gentle start of the flight: every rate under 34.9 deg/s, which the range check
+        // (34.9 rad/s) cannot tell from rad/s.
+        let gentle = deg
+            .iter()
+            .position(|s| s.p.abs().max(s.q.abs()).max(s.r.abs()) >= 34.9)
+            .unwrap_or(deg.len());
+        assert!(gentle >= 500, "{gentle}");
+        let deg = &deg[..gentle];
+        let parsed = parse_log("deg.csv", csv(deg).as_bytes()).unwrap();
+        let w = warnings("deg.csv", &parsed);
+        assert!(w.iter().any(|w| w.contains("deg/s")), "{w:?}");
+    }
+
+    #[test]
+    fn extra_fields_and_decimal_commas_are_refused_with_a_hint() {
+        let flight = identification_flight_for(1, 0.1).unwrap();
+        let text = csv(&flight);
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[2].push_str(",7");
+        let e = parse_log("x.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("has 15 fields, the header has 14"),
+            "{e}"
+        );
+        // A decimal comma: "0.5" written "0,5" splits one field into two.
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[3] = lines[3].replacen('.', ",", 1);
+        let e = parse_log("y.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(e.to_string().contains("decimal commas"), "{e}");
+    }
+
+    #[test]
+    fn a_two_row_log_is_flagged_as_too_short() {
+        let flight = identification_flight_for(1, 0.04).unwrap();
+        assert_eq!(flight.len(), 2);
+        assert!(warnings("short.csv", &flight)
+            .iter()
+            .any(|w| w.contains("only 2 samples")));
+    }
+}
+
+#[test]
+fn identification_duration_beyond_the_sweeps_is_an_error_not_a_silent_clamp() {
+    let dir = std::env::temp_dir().join(format!("rotorid-cli-clamp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rotorid"))
+        .args([
+            "simulate",
+            "--kind",
+            "identification",
+            "--duration",
+            "999",
+            "-o",
+        ])
+        .arg(dir.join("x.csv"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("lasts") && err.contains("999"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -54,7 +54,7 @@ fn firmware_golden(form: RlsForm) -> (String, String) {
 
 fn check_file(name: &str, got: &str) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("data")
+        .join("../core/tests/data")
         .join(name);
     let want = std::fs::read_to_string(&path).expect("golden file");
     for (i, (w, g)) in want.lines().zip(got.lines()).enumerate() {

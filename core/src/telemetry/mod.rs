@@ -11,6 +11,34 @@
 //! crc         = CRC-32/ISO-HDLC over version..payload (poly 0x04C11DB7 reflected, init/xorout !0)
 //! ```
 //!
+//! One frame through the wire, including a corrupted copy that is never delivered:
+//!
+//! ```
+//! use rotorid::telemetry::{FrameDecoder, FrameEncoder, MAX_WIRE_LEN};
+//!
+//! let mut tx = FrameEncoder::new();
+//! let mut wire = [0u8; MAX_WIRE_LEN];
+//! let bytes = tx.encode(0x02, b"ping", &mut wire)?.to_vec(); // Ping, seq 0
+//!
+//! let mut rx: FrameDecoder = FrameDecoder::new();
+//! let mut corrupted = bytes.clone();
+//! corrupted[3] ^= 0x10;
+//! for &b in &corrupted {
+//!     if let Some(r) = rx.push(b) {
+//!         assert!(r.is_err()); // CRC (or COBS) error: counted, not delivered
+//!     }
+//! }
+//! let mut got = None;
+//! for &b in &bytes {
+//!     if let Some(Ok(frame)) = rx.push(b) {
+//!         got = Some((frame.msg_type, frame.seq, frame.payload.to_vec()));
+//!     }
+//! }
+//! assert_eq!(got, Some((0x02, 0, b"ping".to_vec())));
+//! assert_eq!(rx.stats().frames_ok, 1);
+//! # Ok::<(), rotorid::telemetry::EncodeError>(())
+//! ```
+//!
 //! * [`encode_frame`] / [`FrameEncoder`] write one wire frame into a caller's buffer.
 //! * [`FrameDecoder`] is a streaming decoder with a fixed buffer: feed it bytes one at a time
 //!   ([`FrameDecoder::push`]) or in slices ([`FrameDecoder::feed`]); it yields complete valid

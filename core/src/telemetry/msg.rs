@@ -918,7 +918,7 @@ impl<'a> ParamsChunk<'a> {
     pub fn iter(&self) -> impl Iterator<Item = u32> + 'a {
         self.words
             .chunks_exact(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4])))
     }
 }
 
@@ -1010,11 +1010,12 @@ impl ModelView<'_> {
     fn byte(&self, i: usize) -> u8 {
         let word = |xs: &[f32], j: usize| {
             xs.get(j / 4)
-                .map_or(0, |v| v.to_bits().to_le_bytes()[j % 4])
+                .and_then(|v| v.to_bits().to_le_bytes().get(j % 4).copied())
+                .unwrap_or(0)
         };
         match i {
             0 => algorithm_code(self.algorithm),
-            1..=4 => self.updates.to_le_bytes()[i - 1],
+            1..=4 => self.updates.to_le_bytes().get(i - 1).copied().unwrap_or(0),
             _ => {
                 let j = i - 5;
                 let t = 4 * self.theta.len();

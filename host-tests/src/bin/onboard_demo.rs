@@ -31,6 +31,10 @@ fn bar(len: usize, what: &str) -> ProgressBar {
         .progress_chars("=> "),
     );
     pb.set_message(what.to_string());
+    // Without a terminal (CI, a pipe) the bar is hidden: say what runs instead.
+    if pb.is_hidden() {
+        println!("  {what}: {len} samples...");
+    }
     pb
 }
 
@@ -56,9 +60,32 @@ fn run() -> Result<(), String> {
         ver.len() as f64 / 50.0,
         ver.len()
     );
-    println!("building firmware-example (release, thumbv7em-none-eabihf) and booting QEMU...");
+    // Build first with cargo's own progress on the terminal (the first build takes about a
+    // minute); the boot below then finds the firmware built.
+    println!(
+        "building firmware-example (release, thumbv7em-none-eabihf; cargo's progress follows)..."
+    );
+    let built =
+        std::process::Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
+            .args(["build", "--release"])
+            .current_dir(host_tests::firmware_link::firmware_dir())
+            .env_remove("CARGO_TARGET_DIR")
+            .env_remove("RUSTFLAGS")
+            .env_remove("CARGO_ENCODED_RUSTFLAGS")
+            .env_remove("CARGO_BUILD_TARGET")
+            .env_remove("CARGO_MANIFEST_DIR")
+            .status()
+            .map_err(|e| format!("running cargo: {e}"))?;
+    if !built.success() {
+        return Err("building firmware-example failed (see cargo's output above)".into());
+    }
+    println!("booting QEMU (mps2-an386) and connecting to the firmware's UART...");
     let mut ob = Onboard::boot(RlsForm::UdDefault, false).map_err(|e| format!("{e}"))?;
     println!("  firmware says: {}", ob.link.hello().name);
+    println!(
+        "  streaming {} samples to it over the serial link, one frame each way per sample",
+        id.len() + ver.len()
+    );
 
     let learn: Vec<SampleMsg> = id
         .iter()

@@ -166,6 +166,14 @@ fn run_simulate(
             return Err(format!("--duration must be in (0, 36000] s, got {d}"));
         }
     }
+    if let (Kind::Identification, Some(d)) = (kind, duration) {
+        let full = experiments::identification_duration_s();
+        if d > full {
+            return Err(format!(
+                "--duration {d} s: the identification flight (the four Table 2 sweeps) lasts {full} s; give at most that, or fly a verification flight for longer"
+            ));
+        }
+    }
     let samples = match (kind, clean) {
         (Kind::Identification, false) => {
             experiments::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))

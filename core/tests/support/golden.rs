@@ -1,22 +1,22 @@
 //! Golden runs: fixed, platform-independent inputs and the identifiers' outputs as hex bits.
 //!
 //! The inputs come from integer arithmetic and `f32` additions and multiplications only, so
-//! they are the same bits on every machine. The expected outputs live in `host-tests/data/`;
+//! they are the same bits on every machine. The expected outputs live in `core/tests/data/`;
 //! the host build (debug and release, with the core's `std` feature), the core's own tests
 //! (without `std`) and the firmware under QEMU all have to reproduce them exactly.
 //!
-//! This file is also compiled into the core's tests (`#[path]`), so it uses nothing but
-//! `rotorid` and `alloc`.
+//! It lives with the core's tests so that they compile and pass from the published package;
+//! the host crate compiles it too (`#[path]`), so it uses nothing but `rotorid` and `alloc`.
 
 extern crate alloc;
 use alloc::format;
 use alloc::string::String;
 use alloc::vec::Vec;
 
-use rotorid::hover::{Attitude, Controls, HoverSample, StateModel};
+use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample, StateModel};
 use rotorid::{
-    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, HoverIdentifier,
-    PaperFuzzyIdentifier, PaperPlainIdentifier, Real,
+    ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig,
+    HoverIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier, Real,
 };
 
 /// xorshift64: deterministic integers.
@@ -217,7 +217,7 @@ pub const STEPS: usize = 400;
 /// Seed of every golden run.
 pub const SEED: u64 = 0x0007_07e1_d5ee_d001;
 
-/// The golden cases: (file name in `host-tests/data/`, output).
+/// The golden cases: (file name in `core/tests/data/`, output).
 pub fn cases() -> Vec<(&'static str, String)> {
     let inp = inputs(STEPS, SEED);
     let fuzzy = |c: HoverConfig<f32>| PaperFuzzyIdentifier::<f32>::paper_fuzzy(c);
@@ -245,6 +245,14 @@ pub fn cases() -> Vec<(&'static str, String)> {
     match ExtendedPlainIdentifier::<f32>::extended_plain(HoverConfig::default()) {
         Ok(id) => v.push(("golden_extended_plain_f32_ud.txt", run(id, &inp))),
         Err(e) => v.push(("golden_extended_plain_f32_ud.txt", format!("{e}"))),
+    }
+    match FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()) {
+        Ok(id) => v.push(("golden_flight_f32_ud.txt", run(id, &inp))),
+        Err(e) => v.push(("golden_flight_f32_ud.txt", format!("{e}"))),
+    }
+    match FlightIdentifier::<f64>::flight(HoverConfig::default(), flight_sets()) {
+        Ok(id) => v.push(("golden_flight_f64_ud.txt", run(id, &inp))),
+        Err(e) => v.push(("golden_flight_f64_ud.txt", format!("{e}"))),
     }
     v
 }
