@@ -29,7 +29,6 @@ pub mod rls;
 pub mod rule_base;
 pub mod scalar;
 pub mod sweep;
-pub mod telemetry;
 pub mod ts;
 
 pub use error::{ConfigError, Error, Quantity};

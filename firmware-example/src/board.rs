@@ -12,7 +12,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::{syst::SystClkSource, SCB, SYST};
 use cortex_m_rt::exception;
-use rotorid::telemetry::msg::{FaultKind, MemoryReport};
+use rotorid_link::msg::{FaultKind, MemoryReport};
 
 /// Core clock of the mps2-an386 model, in Hz. SysTick counts this clock.
 pub const CORE_HZ: u32 = 25_000_000;

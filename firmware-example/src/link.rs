@@ -8,8 +8,7 @@
 use core::hint::black_box;
 
 use embedded_io::{Read, Write};
-use rotorid::telemetry::{
-    self,
+use rotorid_link::{
     msg::{
         Ack, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest, MemoryReport,
         MsgType, Nack, NackReason, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
@@ -80,7 +79,7 @@ impl<U: Read + Write, P: Platform, T: Write> Link<U, P, T> {
     /// Sends the boot announcement.
     pub fn send_hello(&mut self) {
         let hello = Hello {
-            version: telemetry::VERSION,
+            version: rotorid_link::VERSION,
             max_payload: MAX_PAYLOAD as u16,
             flags: FLAG_FAULT_INJECT,
             name: NAME,
@@ -326,7 +325,7 @@ fn run_cost<P: Platform>(platform: &mut P, req: CostRequest) -> CostReport {
             platform.measure(|| {
                 let mut sum = 0u32;
                 for i in 0..black_box(n) {
-                    let len = telemetry::encode_frame(0x80, i as u16, &payload, &mut wire)
+                    let len = rotorid_link::encode_frame(0x80, i as u16, &payload, &mut wire)
                         .unwrap_or_default();
                     sum = sum.wrapping_add(len as u32);
                 }

@@ -74,7 +74,7 @@ fn main() -> ! {
     board::Delay::new(board::CORE_HZ).delay_us(100);
     defmt::info!(
         "rotorid firmware-example: protocol v{=u8}, UART0 @ {=usize:#x}",
-        rotorid::telemetry::VERSION,
+        rotorid_link::VERSION,
         board::UART0_BASE
     );
     link::Link::new(uart, stopwatch, engine, mav).run()

@@ -8,7 +8,7 @@
 //! because this firmware has no timer interrupt; at 50 samples/s that is every 2 s.
 
 use embedded_io::Write;
-use rotorid::telemetry::msg::{Estimate, IdOutput, Ident as LinkIdent};
+use rotorid_link::msg::{Estimate, IdOutput, Ident as LinkIdent};
 use rotorid_mavlink::{chunk_count, Encoder, Ident, MavState, Model, MAX_FRAME_LEN};
 
 /// A heartbeat after this many samples.

@@ -7,6 +7,7 @@ pub mod firmware_link;
 pub mod flight_report;
 #[path = "../../core/tests/support/golden.rs"]
 pub mod golden;
+pub mod import;
 pub mod log;
 pub mod mavlink;
 pub mod onboard;

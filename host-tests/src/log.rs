@@ -96,6 +96,12 @@ pub enum LogErrorKind {
         /// A hint when the extra fields look like decimal commas.
         hint: &'static str,
     },
+    /// A field written with a decimal comma (`"0,5"`, quoted so it stays one field).
+    #[error("`{0}` has a decimal comma? use '.' for decimals")]
+    DecimalComma(String),
+    /// The header is separated by `;` (a spreadsheet's export with decimal commas).
+    #[error("the header is separated by ';'; the format separates fields with ',' and writes decimals with '.'")]
+    Semicolons,
     /// A field is not a number.
     #[error("not a number: `{0}`")]
     NotANumber(String),
@@ -261,6 +267,9 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
             ));
         }
     }
+    if header.len() == 1 && header.get(0).is_some_and(|h| h.contains(';')) {
+        return Err(err(file, Some(header_line), None, LogErrorKind::Semicolons));
+    }
     for (k, &i) in index.iter().enumerate() {
         if i == usize::MAX {
             return Err(err(
@@ -314,12 +323,13 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                 )
             })?;
             let x: f64 = text.parse().map_err(|_| {
-                err(
-                    file,
-                    Some(line),
-                    col,
-                    LogErrorKind::NotANumber(text.to_string()),
-                )
+                let comma = text.replacen(',', ".", 1).parse::<f64>().is_ok();
+                let kind = if comma {
+                    LogErrorKind::DecimalComma(text.to_string())
+                } else {
+                    LogErrorKind::NotANumber(text.to_string())
+                };
+                err(file, Some(line), col, kind)
             })?;
             if !x.is_finite() {
                 return Err(err(
@@ -384,7 +394,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
 }
 
 /// Range check of column `k` of [`COLUMNS`].
-fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
+pub fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
     match k {
         0 if x < 0.0 => Err(LogErrorKind::OutOfRange {
             value: x,
@@ -461,7 +471,7 @@ pub fn rate_unit_ratio(samples: &[SensorSample]) -> Option<f64> {
 /// Warnings about usable but doubtful data: the collective at or below zero (the models
 /// multiply by `u_col` as a stand-in for thrust, so it must stay clearly positive), body rates
 /// that look like deg/s although every value is within the rad/s range, and logs too short to
-/// show anything.
+/// show anything (or angles that look like degrees by the same comparison).
 pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     let mut out = Vec::new();
     if samples.len() < MIN_USEFUL_SAMPLES {
@@ -475,6 +485,12 @@ pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
         if ratio > 20.0 {
             out.push(format!(
                 "{file}: the body rates are {ratio:.0} times the attitude's rate of change; in rad/s they should be about equal (57 = deg/s): are p_radps, q_radps, r_radps in deg/s?"
+            ));
+        } else if ratio < 1.0 / 20.0 {
+            // Angles in degrees small enough for the range check (a gentle flight).
+            out.push(format!(
+                "{file}: the attitude changes {:.0} times faster than the body rates; they should be about equal (57 = degrees): are roll_rad, pitch_rad, yaw_rad in degrees?",
+                1.0 / ratio
             ));
         }
     }
@@ -491,28 +507,32 @@ pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     out
 }
 
+/// A sample's values in the order of [`COLUMNS`].
+pub fn values(s: &SensorSample) -> [f64; 14] {
+    [
+        s.t,
+        s.sticks.col,
+        s.sticks.ped,
+        s.sticks.lon,
+        s.sticks.lat,
+        s.roll,
+        s.pitch,
+        s.yaw,
+        s.v_north,
+        s.v_east,
+        s.v_down,
+        s.p,
+        s.q,
+        s.r,
+    ]
+}
+
 /// Writes samples in the log format (header, then one row per sample; full `f64` precision).
 pub fn write_log_to(writer: impl Write, samples: &[SensorSample]) -> Result<(), csv::Error> {
     let mut w = csv::Writer::from_writer(writer);
     w.write_record(COLUMNS)?;
     for s in samples {
-        let row = [
-            s.t,
-            s.sticks.col,
-            s.sticks.ped,
-            s.sticks.lon,
-            s.sticks.lat,
-            s.roll,
-            s.pitch,
-            s.yaw,
-            s.v_north,
-            s.v_east,
-            s.v_down,
-            s.p,
-            s.q,
-            s.r,
-        ];
-        w.write_record(row.iter().map(|x| x.to_string()))?;
+        w.write_record(values(s).iter().map(|x| x.to_string()))?;
     }
     w.flush()?;
     Ok(())

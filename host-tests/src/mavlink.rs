@@ -17,8 +17,8 @@ use std::process::Command;
 
 use rotorid::convergence::ConvergenceMonitor;
 use rotorid::hover::HoverSample;
-use rotorid::telemetry::msg::{IdOutput, SampleMode, SampleMsg};
 use rotorid::HoverState;
+use rotorid_link::msg::{IdOutput, SampleMode, SampleMsg};
 use rotorid_mavlink::{chunk_count, Encoder, Ident, MavState, Model, ARRAY_LEN, MAX_FRAME_LEN};
 use serde_json::{json, Value};
 
@@ -135,7 +135,7 @@ pub fn learn_with_one_rejection(flight: &[HoverSample<f32>]) -> Vec<SampleMsg> {
 /// `convergence` (the example firmware runs no convergence monitor).
 pub fn identification_stream(samples: &[SampleMsg], convergence: bool) -> Stream {
     let mut mirror =
-        Mirror::new(rotorid::telemetry::msg::RlsForm::UdDefault).expect("onboard identifiers");
+        Mirror::new(rotorid_link::msg::RlsForm::UdDefault).expect("onboard identifiers");
     let (window, tolerance, settle) = CONVERGENCE;
     let mut monitors = [0, 1].map(|_| {
         ConvergenceMonitor::<f32, 6>::new(window, tolerance, settle).expect("monitor config")
@@ -199,8 +199,8 @@ pub fn identification_stream(samples: &[SampleMsg], convergence: bool) -> Stream
     }
     let end = samples.last().map_or(0, |m| m.sample.time_us);
     for (ident, which) in idents.iter().zip([
-        rotorid::telemetry::msg::Ident::Fuzzy,
-        rotorid::telemetry::msg::Ident::Plain,
+        rotorid_link::msg::Ident::Fuzzy,
+        rotorid_link::msg::Ident::Plain,
     ]) {
         let params = mirror.params(which);
         for (model, p) in Model::ALL.into_iter().zip(&params) {

@@ -11,13 +11,13 @@ use std::collections::VecDeque;
 use std::fmt;
 
 use rotorid::hover::HoverSample;
-use rotorid::telemetry::msg::{
+use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid_link::msg::{
     self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, ModelView,
     MsgType, Nack, ParamField, ParamsChunk, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
     SweepStart,
 };
-use rotorid::telemetry::Writer;
-use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid_link::Writer;
 
 use crate::firmware_link::{BootOptions, FirmwareLink, LinkError, OwnedFrame};
 use crate::plant::flight::{simulate, verification_excitation, FlightConfig};
@@ -299,9 +299,9 @@ impl Mirror {
 
 /// Encodes a payload.
 pub fn payload(
-    f: impl FnOnce(&mut Writer<'_>) -> Result<(), rotorid::telemetry::PayloadError>,
+    f: impl FnOnce(&mut Writer<'_>) -> Result<(), rotorid_link::PayloadError>,
 ) -> Vec<u8> {
-    let mut buf = [0u8; rotorid::telemetry::MAX_PAYLOAD];
+    let mut buf = [0u8; rotorid_link::MAX_PAYLOAD];
     let mut w = Writer::new(&mut buf);
     // Only a message larger than a frame fails, which none of ours is.
     let _ = f(&mut w);

@@ -376,6 +376,63 @@ mod found_as_a_new_user {
             .iter()
             .any(|w| w.contains("only 2 samples")));
     }
+
+    #[test]
+    fn quoted_decimal_commas_and_semicolon_exports_get_the_same_advice() {
+        let flight = identification_flight_for(1, 0.1).unwrap();
+        let text = csv(&flight);
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        // A spreadsheet's quoted field keeps "0,5" in one field.
+        let fields: Vec<&str> = lines[2].split(',').collect();
+        let quoted = format!("\"{}\"", fields[1].replacen('.', ",", 1));
+        lines[2] = [fields[0], &quoted]
+            .into_iter()
+            .chain(fields[2..].iter().copied())
+            .collect::<Vec<_>>()
+            .join(",");
+        let e = parse_log("q.csv", lines.join("\n").as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 3, column 2 (`u_col`)")
+                && e.to_string().contains("decimal comma"),
+            "{e}"
+        );
+        // A `;`-separated export: the header is one field.
+        let semi = text.replace(',', ";");
+        let e = parse_log("s.csv", semi.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 1") && e.to_string().contains("';'"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn gentle_angles_in_degrees_are_caught_from_the_rates() {
+        // A gentle roll oscillation (±0.03 rad at 0.5 Hz): in degrees (±1.7) it still passes
+        // the radian range check (|φ| ≤ 3.2).
+        let mut flight = identification_flight_for(1, 4.0).unwrap();
+        let w = std::f64::consts::PI;
+        for s in &mut flight {
+            (s.roll, s.pitch, s.yaw) = (0.03 * (w * s.t).sin(), 0.0, 0.0);
+            (s.p, s.q, s.r) = (0.03 * w * (w * s.t).cos(), 0.0, 0.0);
+        }
+        assert!(warnings("a.csv", &flight)
+            .iter()
+            .all(|w| !w.contains("in degrees")));
+        let deg: Vec<_> = flight
+            .iter()
+            .map(|s| host_tests::plant::SensorSample {
+                roll: s.roll.to_degrees(),
+                ..*s
+            })
+            .collect();
+        assert!(deg.iter().all(|s| s.roll.abs() < 3.2));
+        let w = warnings("a.csv", &deg);
+        assert!(
+            w.iter()
+                .any(|w| w.contains("roll_rad, pitch_rad, yaw_rad in degrees")),
+            "{w:?}"
+        );
+    }
 }
 
 #[test]

@@ -12,9 +12,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rotorid::hover::HoverSample;
 use rotorid::sweep::SweepSchedule;
-use rotorid::telemetry::msg::{
-    Ident, MsgType, NackReason, RlsForm, SampleMode, SampleMsg, SweepStart,
-};
+use rotorid_link::msg::{Ident, MsgType, NackReason, RlsForm, SampleMode, SampleMsg, SweepStart};
 
 fn hex_all(xs: &[f32]) -> String {
     xs.iter()
@@ -269,7 +267,7 @@ fn warm_start_sweep_memory() {
         .expect("stream");
     // Plain identifier: export, reset, import back (warm start), continue bit for bit.
     let snap = ob.export(Ident::Plain).expect("export");
-    let crc = rotorid::telemetry::msg::stream_crc(&snap);
+    let crc = rotorid_link::msg::stream_crc(&snap);
     // A corrupted stream (bad CRC) is refused and changes nothing.
     let mut bad = snap.clone();
     bad[10] ^= 1;
@@ -295,7 +293,7 @@ fn warm_start_sweep_memory() {
     // and leaves it reset (here: as fresh as the Reset above made it), then the real one
     // imports, and both sides continue from the same state.
     let fsnap = fresh.export(Ident::Fuzzy);
-    let fcrc = rotorid::telemetry::msg::stream_crc(&fsnap);
+    let fcrc = rotorid_link::msg::stream_crc(&fsnap);
     let fresh_fuzzy = ob.export(Ident::Fuzzy).expect("export");
     let mut bad = fsnap.clone();
     bad[9000] ^= 4;

@@ -8,8 +8,8 @@ use std::time::{Duration, Instant};
 use host_tests::firmware_link::{wire_frame, FirmwareLink};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rotorid::telemetry::msg::{MsgType, Nack, NackReason, Workload};
-use rotorid::telemetry::{FrameDecoder, MAX_PAYLOAD};
+use rotorid_link::msg::{MsgType, Nack, NackReason, Workload};
+use rotorid_link::{FrameDecoder, MAX_PAYLOAD};
 
 /// Bitwise CRC-32/ISO-HDLC, independent of the `crc` crate, to forge unknown-version frames.
 fn crc32(data: &[u8]) -> u32 {
@@ -63,7 +63,7 @@ fn payload(rng: &mut ChaCha8Rng, len: usize) -> Vec<u8> {
 fn hello_and_200_pings() {
     let t0 = Instant::now();
     let mut link = FirmwareLink::boot().expect("boot");
-    assert_eq!(link.hello().version, rotorid::telemetry::VERSION);
+    assert_eq!(link.hello().version, rotorid_link::VERSION);
     assert_eq!(usize::from(link.hello().max_payload), MAX_PAYLOAD);
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     for i in 0..200usize {
@@ -91,7 +91,7 @@ fn garbage_between_good_frames_is_counted_and_survived() {
     let mut link = FirmwareLink::boot().expect("boot");
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     // The oracle sees exactly the bytes the firmware sees.
-    let mut oracle = FrameDecoder::<{ rotorid::telemetry::MAX_ENCODED_LEN }>::new();
+    let mut oracle = FrameDecoder::<{ rotorid_link::MAX_ENCODED_LEN }>::new();
     let sent = |link: &mut FirmwareLink, oracle: &mut FrameDecoder, bytes: &[u8]| {
         for &b in bytes {
             let _ = oracle.push(b);
@@ -195,7 +195,7 @@ fn garbage_between_good_frames_is_counted_and_survived() {
     link.encoder().encode(0, &[], &mut [0u8; 64]).unwrap();
     sent(&mut link, &mut oracle, &w);
     let f = link.recv().expect("stats");
-    let s = rotorid::telemetry::msg::StatsReport::read(&f.payload).expect("stats payload");
+    let s = rotorid_link::msg::StatsReport::read(&f.payload).expect("stats payload");
     n_good += 1;
 
     // Exactly what an identical decoder counted on the host...

@@ -10,7 +10,7 @@ use host_tests::mavlink::{
     check_with_pymavlink, identification_stream, learn_with_one_rejection, python_with_pymavlink,
 };
 use host_tests::onboard::{simulated_flight, Onboard};
-use rotorid::telemetry::msg::{Ident, RlsForm};
+use rotorid_link::msg::{Ident, RlsForm};
 
 #[test]
 fn firmware_uart1_is_the_host_stream_and_pymavlink_reads_it() {

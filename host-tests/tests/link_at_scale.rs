@@ -7,7 +7,7 @@
 
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rotorid::telemetry::{FrameDecoder, FrameEncoder, MAX_PAYLOAD, MAX_WIRE_LEN};
+use rotorid_link::{FrameDecoder, FrameEncoder, MAX_PAYLOAD, MAX_WIRE_LEN};
 
 /// Bit error rate of the channel.
 const BER: f64 = 1e-3;

@@ -1,7 +1,7 @@
-//! Property tests of `rotorid::telemetry` framing.
+//! Property tests of `rotorid_link` framing.
 
 use proptest::prelude::*;
-use rotorid::telemetry::{
+use rotorid_link::{
     encode_frame, FrameDecoder, FrameError, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
 
@@ -47,12 +47,12 @@ proptest! {
             let mut rest = piece;
             loop {
                 match dec.feed(rest) {
-                    rotorid::telemetry::Feed::Consumed => break,
-                    rotorid::telemetry::Feed::Frame { frame, remaining } => {
+                    rotorid_link::Feed::Consumed => break,
+                    rotorid_link::Feed::Frame { frame, remaining } => {
                         got.push((frame.msg_type, frame.seq, frame.payload.to_vec()));
                         rest = remaining;
                     }
-                    rotorid::telemetry::Feed::Error { error, .. } => {
+                    rotorid_link::Feed::Error { error, .. } => {
                         prop_assert!(false, "unexpected {error}")
                     }
                 }

@@ -28,13 +28,13 @@ use rotorid::hover::HoverSnapshot;
 use rotorid::hover::StateModel;
 use rotorid::rls::Rls;
 use rotorid::sweep::SweepSchedule;
-use rotorid::telemetry::msg::{
+use rotorid::RlsState;
+use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid_link::msg::{
     self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
     RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
-use rotorid::telemetry::{Reader, Writer};
-use rotorid::RlsState;
-use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid_link::{Reader, Writer};
 
 /// Bytes of the plain identifier's snapshot stream: 4 models × (5 + 4 × (2 + 3)).
 pub const PLAIN_SNAPSHOT_LEN: usize = 4 * (5 + 4 * (2 + 3));
@@ -198,7 +198,7 @@ pub trait Reply {
     fn reply(
         &mut self,
         t: MsgType,
-        build: &mut dyn FnMut(&mut Writer<'_>) -> Result<(), rotorid::telemetry::PayloadError>,
+        build: &mut dyn FnMut(&mut Writer<'_>) -> Result<(), rotorid_link::PayloadError>,
     );
     /// Acknowledges request `seq` of type `msg_type`.
     fn ack(&mut self, seq: u16, msg_type: u8);

@@ -14,8 +14,8 @@ use host_tests::experiments::{
 };
 use host_tests::onboard::{Onboard, OnboardError};
 use indicatif::{ProgressBar, ProgressStyle};
-use rotorid::telemetry::msg::{Estimate, Ident, RlsForm, SampleMode, SampleMsg};
 use rotorid::HoverState;
+use rotorid_link::msg::{Estimate, Ident, RlsForm, SampleMode, SampleMsg};
 
 const ID_SEED: u64 = 1;
 const VER_SEED: u64 = 2;
@@ -171,7 +171,7 @@ fn verdict_fail(e: OnboardError) -> String {
 
 /// `--cost`: the committed cost report (`scripts/cost.sh` → `docs/cost.md`), on stdout.
 fn cost() -> Result<(), String> {
-    use rotorid::telemetry::msg::Workload;
+    use rotorid_link::msg::Workload;
     let id = to_hover_samples(&identification_flight(ID_SEED).map_err(|e| format!("{e}"))?);
     let steps = 2000usize;
     let msgs: Vec<SampleMsg> = id[..steps]

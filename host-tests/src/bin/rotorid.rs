@@ -5,6 +5,7 @@
 //! rotorid simulate --kind identification --seed 1 -o ident.csv
 //! rotorid simulate --kind verification --seed 2 --duration 300 -o verify.csv
 //! rotorid identify --train ident.csv --verify verify.csv --out results/
+//! rotorid convert flight.ulg -o flight.csv
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -13,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use host_tests::envelope::{self, EnvelopeKind};
 use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use host_tests::import;
 use host_tests::log;
 use host_tests::plant::{simulate, verification_excitation, FlightConfig};
 use host_tests::report::{self, Metrics, Table4};
@@ -64,6 +66,8 @@ enum Command {
         output: PathBuf,
     },
     /// Train the fuzzy and plain identifiers on logs, verify on another log, print Table 4.
+    /// Logs: CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin); a log split at gaps trains on
+    /// each segment and verifies on the longest.
     Identify {
         /// Training (identification) logs, learnt one after another.
         #[arg(long, required = true, num_args = 1..)]
@@ -87,6 +91,15 @@ enum Command {
         /// Warm start the first variant from a params-*.json written by an earlier run.
         #[arg(long)]
         warm_start: Option<PathBuf>,
+    },
+    /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
+    /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
+    Convert {
+        /// Input log (.ulg, .bin, or CSV).
+        input: PathBuf,
+        /// Output CSV file.
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
@@ -137,6 +150,7 @@ fn main() -> ExitCode {
             no_plots,
             warm_start.as_deref(),
         ),
+        Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report {
             realistic,
             clean,
@@ -228,12 +242,46 @@ fn clean_config(seed: u64) -> FlightConfig {
     }
 }
 
-fn read(path: &Path) -> Result<Vec<rotorid::hover::HoverSample<f32>>, String> {
-    let log = log::read_log(path).map_err(|e| e.to_string())?;
-    for w in log::warnings(&path.display().to_string(), &log) {
-        eprintln!("warning: {w}");
+/// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:
+/// every usable segment (training), else the longest (verification).
+fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, String> {
+    let imported = import::import(path).map_err(|e| e.to_string())?;
+    let segments = import::segments_for_identify(&imported, all);
+    report_import(path, &imported, &segments);
+    Ok(segments
+        .iter()
+        .map(|s| experiments::to_hover_samples(s))
+        .collect())
+}
+
+/// Prints an import's notes and the warnings on the segments used.
+fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segment]) {
+    for n in &imported.notes {
+        eprintln!("note: {n}");
     }
-    Ok(experiments::to_hover_samples(&log))
+    for seg in used {
+        for w in log::warnings(&path.display().to_string(), seg) {
+            eprintln!("warning: {w}");
+        }
+    }
+}
+
+fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
+    let imported = import::import(input).map_err(|e| e.to_string())?;
+    let seg = imported
+        .longest()
+        .ok_or_else(|| format!("{}: no samples", input.display()))?;
+    report_import(input, &imported, &[seg]);
+    log::write_log(output, seg).map_err(|e| e.to_string())?;
+    eprintln!(
+        "wrote {} samples ({:.2}–{:.2} s, the longest of {} segments) to {}",
+        seg.len(),
+        seg.first().map_or(0.0, |s| s.t),
+        seg.last().map_or(0.0, |s| s.t),
+        imported.segments.len(),
+        output.display()
+    );
+    Ok(())
 }
 
 fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), String> {
@@ -254,8 +302,14 @@ fn run_identify(
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(format!("--window must be in (0, 3600] s, got {window}"));
     }
-    let training: Vec<_> = train.iter().map(|p| read(p)).collect::<Result<_, _>>()?;
-    let verification = read(verify)?;
+    let mut training = Vec::new();
+    for p in train {
+        training.extend(read(p, true)?);
+    }
+    let verification = read(verify, false)?
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("{}: no samples", verify.display()))?;
     if verification.len() < 2 {
         return Err(format!("{}: needs at least 2 samples", verify.display()));
     }

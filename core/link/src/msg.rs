@@ -10,10 +10,10 @@
 //! never panics.
 
 use super::{LinkStats, PayloadError, Reader, Writer};
-use crate::error::{ConfigError, Error, Quantity};
-use crate::hover::{Attitude, Controls, HoverSample};
-use crate::rls::{Algorithm, RlsState};
-use crate::sweep::Channel;
+use rotorid::error::{ConfigError, Error, Quantity};
+use rotorid::hover::{Attitude, Controls, HoverSample};
+use rotorid::rls::{Algorithm, RlsState};
+use rotorid::sweep::Channel;
 
 /// Message type codes (byte 1 of a raw frame).
 #[non_exhaustive]
@@ -483,6 +483,11 @@ impl SampleMsg {
 /// Bytes of an encoded [`Error`] (see [`write_error`]).
 pub const ERROR_LEN: usize = 28;
 
+/// The `code` (or `detail`) sent for an error, quantity or configuration error that a newer
+/// `rotorid` defines and this protocol version cannot name (`rotorid`'s error enums are
+/// `#[non_exhaustive]`). A reader refuses it as an invalid payload.
+pub const UNKNOWN_CODE: u8 = 255;
+
 fn quantity_code(q: Quantity) -> (u8, u16) {
     match q {
         Quantity::Roll => (1, 0),
@@ -498,6 +503,8 @@ fn quantity_code(q: Quantity) -> (u8, u16) {
         Quantity::Parameter(i) => (11, i),
         Quantity::Covariance(i) => (12, i),
         Quantity::Config => (13, 0),
+        // A quantity of a newer core than this protocol version knows.
+        _ => (UNKNOWN_CODE, 0),
     }
 }
 
@@ -533,6 +540,7 @@ fn config_code(c: ConfigError) -> (u8, u16, u64) {
         ConfigError::SamplePeriod => (7, 0, 0),
         ConfigError::Sweep => (8, 0, 0),
         ConfigError::Scale => (9, 0, 0),
+        _ => (UNKNOWN_CODE, 0, 0),
     }
 }
 
@@ -588,6 +596,7 @@ pub fn write_error(w: &mut Writer<'_>, e: Option<&Error>) -> Result<(), PayloadE
         }
         Some(Error::Incompatible) => (6, 0, 0, 0, 0, 0),
         Some(Error::Numerical) => (7, 0, 0, 0, 0, 0),
+        Some(_) => (UNKNOWN_CODE, 0, 0, 0, 0, 0),
     };
     if w.remaining() < ERROR_LEN {
         return Err(PayloadError::Overflow {
@@ -1499,7 +1508,7 @@ mod tests {
         };
         let b = roundtrip_len(|w| e.write(w));
         assert_eq!(b.len(), Estimate::LEN);
-        const { assert!(Estimate::LEN <= crate::telemetry::MAX_PAYLOAD) };
+        const { assert!(Estimate::LEN <= crate::MAX_PAYLOAD) };
         assert_eq!(Estimate::read(&b), Ok(e));
         rejects_truncated_and_extended(&b, Estimate::read);
         let mut bad = b.clone();
@@ -1611,7 +1620,7 @@ mod tests {
             data: &data,
         };
         let b = roundtrip_len(|w| d.write(w));
-        assert_eq!(b.len(), crate::telemetry::MAX_PAYLOAD);
+        assert_eq!(b.len(), crate::MAX_PAYLOAD);
         assert_eq!(DataChunk::read(&b), Ok(d));
         for n in 0..DataChunk::HEADER {
             assert!(DataChunk::read(&b[..n]).is_err());

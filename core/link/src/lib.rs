@@ -1,5 +1,9 @@
-//! Telemetry link: framing, payload codec and message catalogue shared by the firmware and the
-//! host.
+//! rotorid's telemetry link: framing, payload codec and message catalogue shared by a
+//! firmware and its host.
+//!
+//! A crate of its own so that a flight stack that links the identifier (`rotorid`) does not
+//! carry a protocol it does not speak. It depends on `rotorid` (the types it carries), `crc`
+//! and `cobs`, and nothing depends on it but firmwares and host tools.
 //!
 //! Everything here is `no_std`, allocation-free and total: no input (random bytes, truncated or
 //! corrupted frames, oversized bursts) can make it panic, and nothing corrupted is ever handed
@@ -14,7 +18,7 @@
 //! One frame through the wire, including a corrupted copy that is never delivered:
 //!
 //! ```
-//! use rotorid::telemetry::{FrameDecoder, FrameEncoder, MAX_WIRE_LEN};
+//! use rotorid_link::{FrameDecoder, FrameEncoder, MAX_WIRE_LEN};
 //!
 //! let mut tx = FrameEncoder::new();
 //! let mut wire = [0u8; MAX_WIRE_LEN];
@@ -36,7 +40,7 @@
 //! }
 //! assert_eq!(got, Some((0x02, 0, b"ping".to_vec())));
 //! assert_eq!(rx.stats().frames_ok, 1);
-//! # Ok::<(), rotorid::telemetry::EncodeError>(())
+//! # Ok::<(), rotorid_link::EncodeError>(())
 //! ```
 //!
 //! * [`encode_frame`] / [`FrameEncoder`] write one wire frame into a caller's buffer.
@@ -56,6 +60,23 @@
 //! which at one garbage "frame" per second is one bogus accepted frame per 18 hours. The two
 //! extra bytes are cheap and the `crc` crate's 1 KiB table costs ~20 instructions per byte on
 //! a Cortex-M4. It is also the CRC every tool knows (zlib, Python `binascii.crc32`).
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+// No panic path: the lints below fail `cargo clippy` (and CI) on any unwrap, expect, panic or
+// unchecked index outside the tests.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
 
 mod frame;
 pub mod msg;

@@ -1,0 +1,285 @@
+//! Resampling of a log's topics onto the identifier's 50 Hz grid, split at gaps.
+//!
+//! - States (attitude, velocity, rates) are interpolated linearly between the two samples
+//!   around each grid time; yaw is unwrapped first and wrapped back to (−π, π].
+//! - Controls are held (zero-order hold): a command applies from its time stamp until the next,
+//!   as in the CSV format.
+//! - A **gap** is an interval over [`MAX_SOURCE_GAP_S`] between two finite samples of any
+//!   channel (a non-finite sample counts as missing). The log is split there, and into the
+//!   span where every channel has data, giving [`Segment`]s; grids start at each segment's
+//!   start.
+
+use crate::plant::{SensorSample, Sticks};
+
+/// Identifier rate (Hz).
+pub const RATE_HZ: f64 = 50.0;
+
+/// Longest interval between two samples of a channel that is interpolated over (s): 2.5 times
+/// the slowest default PX4 logging interval (100 ms, `vehicle_local_position`).
+pub const MAX_SOURCE_GAP_S: f64 = 0.25;
+
+/// One channel: time stamps (s, increasing) and values.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Series<const N: usize> {
+    /// Time stamps (s).
+    pub t: Vec<f64>,
+    /// Values at the time stamps.
+    pub v: Vec<[f64; N]>,
+}
+
+impl<const N: usize> Series<N> {
+    /// Appends a sample, dropping it when not finite or not after the previous one.
+    pub fn push(&mut self, t: f64, v: [f64; N]) {
+        let later = self.t.last().is_none_or(|&last| t > last);
+        if later && t.is_finite() && v.iter().all(|x| x.is_finite()) {
+            self.t.push(t);
+            self.v.push(v);
+        }
+    }
+
+    /// Gaps `(from, to)` longer than [`MAX_SOURCE_GAP_S`].
+    fn gaps(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.t
+            .windows(2)
+            .filter(|w| w[1] - w[0] > MAX_SOURCE_GAP_S)
+            .map(|w| (w[0], w[1]))
+    }
+
+    /// Value at `t` by linear interpolation (`hold`: the last sample at or before `t`);
+    /// `cursor` advances monotonically for increasing `t`.
+    fn at(&self, t: f64, cursor: &mut usize, hold: bool) -> Option<[f64; N]> {
+        while *cursor + 1 < self.t.len() && self.t[*cursor + 1] <= t {
+            *cursor += 1;
+        }
+        let (t0, v0) = (*self.t.get(*cursor)?, *self.v.get(*cursor)?);
+        if hold || t <= t0 {
+            return Some(v0);
+        }
+        let (t1, v1) = (*self.t.get(*cursor + 1)?, *self.v.get(*cursor + 1)?);
+        let a = (t - t0) / (t1 - t0);
+        Some(core::array::from_fn(|i| v0[i] + a * (v1[i] - v0[i])))
+    }
+}
+
+/// Joins two channels logged separately: at each sample of `a`, the latest sample of `b` at or
+/// before it (zero-order hold), combined by `f`; samples of `a` before the first of `b` are
+/// dropped.
+pub fn merge_held<const N: usize, const M: usize, const K: usize>(
+    a: &Series<N>,
+    b: &Series<M>,
+    f: impl Fn(&[f64; N], &[f64; M]) -> [f64; K],
+) -> Series<K> {
+    let mut out = Series::default();
+    let mut cursor = 0usize;
+    for (t, x) in a.t.iter().zip(&a.v) {
+        if b.t.first().is_some_and(|t0| t0 <= t) {
+            if let Some(y) = b.at(*t, &mut cursor, true) {
+                out.push(*t, f(x, &y));
+            }
+        }
+    }
+    out
+}
+
+/// A log's channels in the flight computer's convention, before resampling.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Channels {
+    /// ZYX Euler angles `[φ θ ψ]` (rad).
+    pub attitude: Series<3>,
+    /// Velocity `[v_n v_e v_d]` (m/s).
+    pub velocity_ned: Series<3>,
+    /// Body rates `[p q r]` about forward, right, down (rad/s).
+    pub rates_frd: Series<3>,
+    /// Normalised controls `[col ped lon lat]`.
+    pub controls: Series<4>,
+}
+
+/// A stretch of the log without gaps, resampled at [`RATE_HZ`].
+pub type Segment = Vec<SensorSample>;
+
+/// Unwraps yaw (index 2) so that interpolation never crosses ±π the long way.
+fn unwrap_yaw(att: &Series<3>) -> Series<3> {
+    let mut out = att.clone();
+    let mut offset = 0.0;
+    for k in 1..out.v.len() {
+        let d = att.v[k][2] - att.v[k - 1][2];
+        if d > std::f64::consts::PI {
+            offset -= std::f64::consts::TAU;
+        } else if d < -std::f64::consts::PI {
+            offset += std::f64::consts::TAU;
+        }
+        out.v[k][2] = att.v[k][2] + offset;
+    }
+    out
+}
+
+fn wrap_pi(x: f64) -> f64 {
+    let y = x.rem_euclid(std::f64::consts::TAU);
+    if y > std::f64::consts::PI {
+        y - std::f64::consts::TAU
+    } else {
+        y
+    }
+}
+
+/// The spans `(start, end)` where every channel has data without a gap.
+pub fn spans(ch: &Channels) -> Vec<(f64, f64)> {
+    let firsts = [
+        ch.attitude.t.first(),
+        ch.velocity_ned.t.first(),
+        ch.rates_frd.t.first(),
+        ch.controls.t.first(),
+    ];
+    let lasts = [
+        ch.attitude.t.last(),
+        ch.velocity_ned.t.last(),
+        ch.rates_frd.t.last(),
+        ch.controls.t.last(),
+    ];
+    let (Some(start), Some(end)) = (
+        firsts
+            .iter()
+            .try_fold(f64::MIN, |m, t| t.map(|t| m.max(*t))),
+        lasts.iter().try_fold(f64::MAX, |m, t| t.map(|t| m.min(*t))),
+    ) else {
+        return Vec::new();
+    };
+    let mut gaps: Vec<(f64, f64)> = ch
+        .attitude
+        .gaps()
+        .chain(ch.velocity_ned.gaps())
+        .chain(ch.rates_frd.gaps())
+        .chain(ch.controls.gaps())
+        .collect();
+    gaps.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = Vec::new();
+    let mut from = start;
+    for (g0, g1) in gaps {
+        if g0 > from && g0 <= end {
+            out.push((from, g0));
+        }
+        from = from.max(g1);
+    }
+    if end > from {
+        out.push((from, end));
+    }
+    out
+}
+
+/// Resamples every gap-free span at [`RATE_HZ`] (see the module documentation), longest
+/// spans kept in log order; spans shorter than one step are dropped.
+pub fn resample(ch: &Channels) -> Vec<Segment> {
+    let attitude = unwrap_yaw(&ch.attitude);
+    let mut out = Vec::new();
+    for (start, end) in spans(ch) {
+        let mut cursors = [0usize; 4];
+        let mut seg = Vec::new();
+        for k in 0u32.. {
+            // On whole microseconds (log time stamps are µs), so the CSV stays readable.
+            let t = ((start + f64::from(k) / RATE_HZ) * 1e6).round() / 1e6;
+            if t > end {
+                break;
+            }
+            let (Some(a), Some(v), Some(w), Some(u)) = (
+                attitude.at(t, &mut cursors[0], false),
+                ch.velocity_ned.at(t, &mut cursors[1], false),
+                ch.rates_frd.at(t, &mut cursors[2], false),
+                ch.controls.at(t, &mut cursors[3], true),
+            ) else {
+                break;
+            };
+            seg.push(SensorSample {
+                t,
+                sticks: Sticks {
+                    col: u[0],
+                    ped: u[1],
+                    lon: u[2],
+                    lat: u[3],
+                },
+                roll: a[0],
+                pitch: a[1],
+                yaw: wrap_pi(a[2]),
+                v_north: v[0],
+                v_east: v[1],
+                v_down: v[2],
+                p: w[0],
+                q: w[1],
+                r: w[2],
+            });
+        }
+        if seg.len() > 1 {
+            out.push(seg);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series<const N: usize>(ts: &[f64], f: impl Fn(f64) -> [f64; N]) -> Series<N> {
+        let mut s = Series::default();
+        ts.iter().for_each(|&t| s.push(t, f(t)));
+        s
+    }
+
+    fn channels(ts: &[f64]) -> Channels {
+        Channels {
+            attitude: series(ts, |t| [0.1 * t, 0.0, 3.0 + t]),
+            velocity_ned: series(ts, |t| [t, 0.0, 0.0]),
+            rates_frd: series(ts, |t| [0.0, 0.0, 2.0 * t]),
+            controls: series(ts, |t| [0.5, t, 0.0, 0.0]),
+        }
+    }
+
+    #[test]
+    fn linear_states_held_controls_wrapped_yaw() {
+        let ts: Vec<f64> = (0..=10).map(|k| f64::from(k) * 0.1).collect();
+        let seg = resample(&channels(&ts));
+        assert_eq!(seg.len(), 1);
+        let s = &seg[0];
+        assert_eq!(s.len(), 51, "1 s at 50 Hz, both ends");
+        let x = &s[6]; // t = 0.12, between 0.1 and 0.2
+        assert!((x.t - 0.12).abs() < 1e-12);
+        assert!((x.v_north - 0.12).abs() < 1e-12, "linear: {}", x.v_north);
+        assert!((x.r - 0.24).abs() < 1e-12);
+        assert!((x.sticks.ped - 0.1).abs() < 1e-12, "held: {}", x.sticks.ped);
+        // Yaw 3.0 + t passes π at t ≈ 0.14 and comes back wrapped near −π.
+        let y = &s[10]; // t = 0.2 → 3.2 → 3.2 − 2π
+        assert!(
+            (y.yaw - (3.2 - std::f64::consts::TAU)).abs() < 1e-9,
+            "{}",
+            y.yaw
+        );
+        assert!(s
+            .iter()
+            .all(|x| x.yaw > -std::f64::consts::PI && x.yaw <= std::f64::consts::PI));
+    }
+
+    #[test]
+    fn split_at_a_gap_and_to_the_common_span() {
+        let mut ts: Vec<f64> = (0..=10).map(|k| f64::from(k) * 0.1).collect();
+        ts.extend((20..=40).map(|k| f64::from(k) * 0.1));
+        let mut ch = channels(&ts);
+        // Velocity starts late: the first segment starts at 0.3 s.
+        ch.velocity_ned = series(&ts[3..], |t| [t, 0.0, 0.0]);
+        let seg = resample(&ch);
+        assert_eq!(seg.len(), 2);
+        assert!((seg[0][0].t - 0.3).abs() < 1e-12);
+        assert!(seg[0].last().is_some_and(|s| s.t <= 1.0 + 1e-12));
+        assert!((seg[1][0].t - 2.0).abs() < 1e-12);
+        assert_eq!(seg[1].len(), 101);
+    }
+
+    #[test]
+    fn non_finite_samples_are_missing() {
+        let mut s = Series::<1>::default();
+        s.push(0.0, [1.0]);
+        s.push(0.1, [f64::NAN]);
+        s.push(0.05, [2.0]);
+        s.push(0.04, [2.5]);
+        s.push(0.2, [3.0]);
+        assert_eq!(s.t, vec![0.0, 0.05, 0.2]);
+    }
+}
