@@ -30,8 +30,13 @@ fn firmware_uart1_is_the_host_stream_and_pymavlink_reads_it() {
     for ident in [Ident::Fuzzy, Ident::Plain] {
         ob.params(ident).unwrap_or_else(|e| panic!("{e}"));
     }
+    let mem = ob.memory().unwrap_or_else(|e| panic!("{e}"));
     // The θ arrays precede the Params replies on the wire, so the capture is complete.
     drop(ob);
+    eprintln!(
+        "stack high-water mark of the link + identification + MAVLink service: {} of {} B",
+        mem.stack_peak, mem.stack_size
+    );
     let fw = std::fs::read(&capture).expect("UART1 capture");
     let host = identification_stream(&samples, false);
     assert_eq!(
