@@ -18,6 +18,8 @@ use rotorid_link::msg::{FaultKind, MemoryReport};
 pub const CORE_HZ: u32 = 25_000_000;
 /// Base address of UART0 (the telemetry link).
 pub const UART0_BASE: usize = 0x4000_4000;
+/// Base address of UART1 (MAVLink 2 telemetry, write-only; QEMU's second `-serial`).
+pub const UART1_BASE: usize = 0x4000_5000;
 /// Baud rate programmed into the UART, in bit/s (QEMU ignores it; real CMSDK UARTs do not).
 pub const BAUD: u32 = 115_200;
 

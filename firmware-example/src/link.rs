@@ -18,6 +18,8 @@ use rotorid_link::{
 
 use firmware_ident::{Engine, Reply};
 
+use crate::mavlink_port::MavlinkPort;
+
 /// What the link needs from the MCU besides the byte stream.
 pub trait Platform {
     /// Runs `f` and returns its result and the elapsed time in cycle-counter ticks.
@@ -41,23 +43,25 @@ struct AppCounters {
     uart_errors: u32,
 }
 
-/// The link application.
-pub struct Link<U, P> {
+/// The link application; every sample's outputs also go to the MAVLink port `mav`.
+pub struct Link<U, P, T> {
     io: U,
     platform: P,
     engine: &'static mut Engine,
+    mav: MavlinkPort<T>,
     decoder: FrameDecoder,
     tx: FrameEncoder,
     counters: AppCounters,
 }
 
-impl<U: Read + Write, P: Platform> Link<U, P> {
-    /// A link over `io` serving `engine`.
-    pub fn new(io: U, platform: P, engine: &'static mut Engine) -> Self {
+impl<U: Read + Write, P: Platform, T: Write> Link<U, P, T> {
+    /// A link over `io` serving `engine`, with MAVLink telemetry on `mav`.
+    pub fn new(io: U, platform: P, engine: &'static mut Engine, mav: MavlinkPort<T>) -> Self {
         Self {
             io,
             platform,
             engine,
+            mav,
             decoder: FrameDecoder::new(),
             tx: FrameEncoder::new(),
             counters: AppCounters::default(),
@@ -100,6 +104,7 @@ impl<U: Read + Write, P: Platform> Link<U, P> {
                 io,
                 platform,
                 engine,
+                mav,
                 decoder,
                 tx,
                 counters,
@@ -125,7 +130,13 @@ impl<U: Read + Write, P: Platform> Link<U, P> {
                         out.nack(seq, MsgType::StatsRequest.code(), NackReason::BadPayload);
                     }
                 }
-                Some(Ok(frame)) => handle(frame, platform, engine, &mut Out::new(io, tx, counters)),
+                Some(Ok(frame)) => handle(
+                    frame,
+                    platform,
+                    engine,
+                    mav,
+                    &mut Out::new(io, tx, counters),
+                ),
             }
         }
     }
@@ -206,10 +217,11 @@ impl<U: Write> Reply for Out<'_, U> {
 }
 
 /// Dispatches one valid frame (other than `StatsRequest`).
-fn handle<U: Write, P: Platform>(
+fn handle<U: Write, P: Platform, T: Write>(
     frame: Frame<'_>,
     platform: &mut P,
     engine: &mut Engine,
+    mav: &mut MavlinkPort<T>,
     out: &mut Out<'_, U>,
 ) {
     let (seq, code) = (frame.seq, frame.msg_type);
@@ -217,6 +229,8 @@ fn handle<U: Write, P: Platform>(
         Some(MsgType::Sample) => match SampleMsg::read(frame.payload) {
             Ok(m) => {
                 let est = engine.sample(&m, &mut |f| platform.measure(f).1);
+                // MAVLink first: once the client has the Estimate, the telemetry is out too.
+                mav.estimate(&est);
                 out.reply(MsgType::Estimate, |w| est.write(w));
             }
             Err(_) => out.nack(seq, code, NackReason::BadPayload),
@@ -232,7 +246,12 @@ fn handle<U: Write, P: Platform>(
             Err(_) => out.nack(seq, code, NackReason::BadPayload),
         },
         Some(MsgType::ParamsRequest) => match IdentRequest::read(frame.payload) {
-            Ok(r) => engine.params(seq, r.ident, out),
+            Ok(r) => {
+                if let Some(thetas) = engine.thetas(r.ident) {
+                    mav.thetas(r.ident, &thetas);
+                }
+                engine.params(seq, r.ident, out)
+            }
             Err(_) => out.nack(seq, code, NackReason::BadPayload),
         },
         Some(MsgType::ExportRequest) => match IdentRequest::read(frame.payload) {

@@ -9,6 +9,8 @@
 //! * [`board`]: everything specific to the mps2-an386 model (UART, SysTick, exit path, fault
 //!   handlers). Replace it for another board.
 //! * [`link`]: the board-agnostic application, generic over `embedded_io::{Read, Write}`.
+//! * [`mavlink_port`]: MAVLink 2 telemetry on UART1 beside the link (docs/protocol.md,
+//!   "MAVLink 2"); on a vehicle, wire it to the telemetry radio's UART.
 //! * [`firmware_ident`] (crate `ident/`): the onboard identifiers (fuzzy + plain) and the identification messages.
 //!
 //! ## Running it on a real flight computer
@@ -34,6 +36,7 @@
 
 mod board;
 mod link;
+mod mavlink_port;
 
 use cortex_m_rt::entry;
 // defmt transport for QEMU; use `defmt_rtt as _;` on hardware.
@@ -61,6 +64,11 @@ fn main() -> ! {
     board::paint_stack();
     // SAFETY: UART0 is used by nothing else in this program.
     let uart = unsafe { board::CmsdkUart::new(board::UART0_BASE, board::CORE_HZ, board::BAUD) };
+    // SAFETY: UART1 is used by nothing else in this program.
+    let uart1 = unsafe { board::CmsdkUart::new(board::UART1_BASE, board::CORE_HZ, board::BAUD) };
+    let Some(mav) = mavlink_port::MavlinkPort::new(uart1) else {
+        board::exit(board::EXIT_INIT)
+    };
     let stopwatch = board::Stopwatch::new(cp.SYST);
     // Give the UART one character time to settle after enabling (matters on hardware only).
     board::Delay::new(board::CORE_HZ).delay_us(100);
@@ -69,5 +77,5 @@ fn main() -> ! {
         rotorid_link::VERSION,
         board::UART0_BASE
     );
-    link::Link::new(uart, stopwatch, engine).run()
+    link::Link::new(uart, stopwatch, engine, mav).run()
 }

@@ -9,6 +9,7 @@ pub mod flight_report;
 pub mod golden;
 pub mod import;
 pub mod log;
+pub mod mavlink;
 pub mod onboard;
 pub mod plant;
 pub mod precision;

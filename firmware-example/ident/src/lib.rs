@@ -326,6 +326,16 @@ impl Engine {
         Ok(())
     }
 
+    /// θ of `ident`'s four models (velocity, q̂, r̂, p̂), for telemetry; `None` if that
+    /// identifier failed to build.
+    pub fn thetas(&self, ident: Ident) -> Option<[&[f32]; 4]> {
+        let views = match ident {
+            Ident::Plain => self.plain_views(),
+            _ => self.fuzzy_views(),
+        }?;
+        Some(views.map(|v| v.theta))
+    }
+
     fn fuzzy_views(&self) -> Option<[ModelView<'_>; 4]> {
         let f = self.fuzzy.as_ref().ok()?;
         Some([

@@ -10,6 +10,9 @@ mod board;
 #[allow(dead_code)]
 #[path = "../link.rs"]
 mod link;
+#[allow(dead_code)]
+#[path = "../mavlink_port.rs"]
+mod mavlink_port;
 
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
