@@ -172,6 +172,17 @@ impl embedded_io::Write for CmsdkUart {
         Ok(n)
     }
 
+    /// Every byte, in order, blocking while the holding register is full. Overrides
+    /// `embedded_io`'s default, which slices the buffer by what `write` returns and panics on
+    /// `Ok(0)`: a panic path in every send (`scripts/no_panic.py` finds such paths).
+    fn write_all(&mut self, buf: &[u8]) -> Result<(), UartError> {
+        for &b in buf {
+            while self.read_reg(STATE) & STATE_TX_FULL != 0 {}
+            self.write_reg(DATA, u32::from(b));
+        }
+        Ok(())
+    }
+
     /// Waits until the holding register is free (the last byte may still be on the wire).
     fn flush(&mut self) -> Result<(), UartError> {
         while self.read_reg(STATE) & STATE_TX_FULL != 0 {}

@@ -15,6 +15,7 @@ pub mod plant;
 pub mod precision;
 pub mod reference;
 pub mod report;
+pub mod soak;
 
 /// The code blocks of the repository's README, compiled and run as doc tests so the README
 /// stays true.

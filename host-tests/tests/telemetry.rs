@@ -144,3 +144,28 @@ fn fuzz_regression_non_canonical_estimate_is_refused() {
         .collect();
     assert!(rotorid_link::msg::Estimate::read(&bytes).is_err());
 }
+
+/// Found by `scripts/fuzz.sh` (target `messages`): a `ParamsChunk` of 287 bytes, more words than
+/// a frame carries, parsed although no writer could send it. Chunks longer than a frame's
+/// payload are refused now (`DataChunk` likewise).
+#[test]
+fn fuzz_regression_oversized_chunks_are_refused() {
+    use rotorid_link::msg::ParamsChunk;
+    // ident 1, model 0, field 0, index 0, total 0xffff; then 70 words, 58 fit a frame.
+    let mut payload = vec![1u8, 0, 0, 0, 0, 0xff, 0xff];
+    assert_eq!(payload.len(), ParamsChunk::HEADER);
+    payload.extend(std::iter::repeat_n(
+        0x75u8,
+        4 * (ParamsChunk::MAX_WORDS + 12),
+    ));
+    assert!(ParamsChunk::read(&payload).is_err());
+    payload.truncate(ParamsChunk::HEADER + 4 * ParamsChunk::MAX_WORDS);
+    assert!(ParamsChunk::read(&payload).is_ok());
+    let mut data = vec![0u8; 13];
+    data[5..9].copy_from_slice(&u32::MAX.to_le_bytes()); // total
+    data.extend(std::iter::repeat_n(
+        0u8,
+        rotorid_link::msg::DataChunk::MAX_DATA + 1,
+    ));
+    assert!(rotorid_link::msg::DataChunk::read(&data).is_err());
+}

@@ -932,6 +932,7 @@ impl<'a> ParamsChunk<'a> {
         let n = words.len() / 4;
         if model > 3
             || !words.len().is_multiple_of(4)
+            || n > Self::MAX_WORDS
             || usize::from(index) + n > usize::from(total)
         {
             return Err(PayloadError::InvalidValue);
@@ -985,6 +986,9 @@ impl<'a> DataChunk<'a> {
         w.put_u32(self.offset)?;
         w.put_u32(self.total)?;
         w.put_u32(self.crc)?;
+        if self.data.len() > Self::MAX_DATA {
+            return Err(PayloadError::InvalidValue);
+        }
         w.put_bytes(self.data)
     }
 
@@ -997,7 +1001,7 @@ impl<'a> DataChunk<'a> {
         let crc = r.get_u32()?;
         let data = r.rest();
         let end = u64::from(offset) + data.len() as u64;
-        if end > u64::from(total) {
+        if data.len() > Self::MAX_DATA || end > u64::from(total) {
             return Err(PayloadError::InvalidValue);
         }
         Ok(Self {
