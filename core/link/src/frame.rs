@@ -583,7 +583,7 @@ mod tests {
                 x ^= x << 13;
                 x ^= x >> 17;
                 x ^= x << 5;
-                v.push(if x % 7 == 0 {
+                v.push(if x.is_multiple_of(7) {
                     (x >> 8) as u8 % 4
                 } else {
                     (x >> 8) as u8
