@@ -61,6 +61,10 @@ pub const REGRESSOR_LIMIT: f64 = 1e7;
 pub const TARGET_LIMIT: f64 = 1e9;
 /// Largest accepted initial covariance α and trace bound.
 pub const COVARIANCE_LIMIT: f64 = 1e12;
+/// Largest magnitude of an imported parameter θ_i (in the estimator's, possibly scaled,
+/// coordinates). Learning never comes near it; a state beyond it would make predictions
+/// overflow.
+pub const PARAMETER_LIMIT: f64 = 1e12;
 
 /// How the covariance is propagated (see the [module docs](self)).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -474,6 +478,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// The checks of [`import`](Self::import): the same algorithm, every entry finite, every
+    /// parameter within [`PARAMETER_LIMIT`], every
     /// diagonal entry at most [`COVARIANCE_LIMIT`], and for the U-D form every `D_j ≥ 0` (an
     /// invariant of that form; the covariance form in f32 may legitimately have lost
     /// definiteness).
@@ -484,6 +489,9 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         for (i, t) in state.theta.iter().enumerate() {
             if !t.is_finite() {
                 return Err(Error::NonFinite(Quantity::Parameter(i as u16)));
+            }
+            if !within(*t, T::lit(PARAMETER_LIMIT)) {
+                return Err(Error::OutOfRange(Quantity::Parameter(i as u16)));
             }
         }
         let limit = T::lit(COVARIANCE_LIMIT);

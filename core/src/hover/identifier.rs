@@ -584,7 +584,11 @@ where
     /// Errors (nothing changes on any of them): a field out of range or not finite
     /// ([`SampleLimits`]), a time stamp that does not increase, an interval outside
     /// `sample_period_us ± period_tolerance_us` (after a gap, call [`resume`](Self::resume)),
-    /// or an update beyond the estimator's numeric limits.
+    /// or an update beyond the estimator's numeric limits. One exception to "nothing changes":
+    /// [`Error::Numerical`] after learning means the prediction from the updated parameters
+    /// overflowed (possible only with parameters far beyond anything learning produces, such
+    /// as an absurd imported state); the sample was learnt, and the identifier should be
+    /// [`reset`](Self::reset).
     pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
@@ -621,7 +625,8 @@ where
             before,
         };
         self.timing.links = if self.timing.links > 0 { 2 } else { 1 };
-        // Cannot fail: the sample passed SampleLimits, which bounds every regressor.
+        // The sample passed SampleLimits, which bounds every regressor; only parameters beyond
+        // any learnt ones could make this fail (see the docs above).
         let prediction = self.predict_in(sample, &frame, &before)?;
         Ok(StepOutput {
             prediction,
@@ -668,7 +673,13 @@ where
         self.pitch.predict_in(sample, frame, before, &mut next)?;
         self.yaw.predict_in(sample, frame, before, &mut next)?;
         self.roll.predict_in(sample, frame, before, &mut next)?;
-        Ok(next)
+        // Never a non-finite number out of an `Ok`: parameters far beyond anything learning
+        // produces (an absurd imported state, say) could overflow a prediction.
+        if next.to_array().iter().all(|x| x.is_finite()) {
+            Ok(next)
+        } else {
+            Err(Error::Numerical)
+        }
     }
 
     /// Starts a new sample chain at `sample` without learning (after a gap, a time jump, or
