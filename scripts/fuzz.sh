@@ -19,7 +19,14 @@ status=0
 for t in "${targets[@]}"; do
   mkdir -p "corpus/$t"
   log=$(mktemp)
-  if cargo +nightly fuzz run --release "$t" "corpus/$t" -- -max_total_time="$seconds" \
+  # FUZZ_RUNS (CI): a fixed number of executions from a fixed seed, so that a CI run is
+  # reproducible; otherwise SECONDS of fuzzing from a random seed.
+  if [ -n "${FUZZ_RUNS:-}" ]; then
+    budget=(-runs="$FUZZ_RUNS" -seed=1)
+  else
+    budget=(-max_total_time="$seconds")
+  fi
+  if cargo +nightly fuzz run --release "$t" "corpus/$t" -- "${budget[@]}" \
       -print_final_stats=1 >"$log" 2>&1; then
     result="no crash"
   else

@@ -59,9 +59,11 @@ the prediction bits compared against x86_64 (\`host-tests/tests/firmware_step_co
 
 Coverage-guided (cargo-fuzz, libFuzzer) on the frame decoder, every message parser, the CSV
 importer, the identifier step and parameter import: \`scripts/fuzz.sh SECONDS\`, report in
-\`docs/fuzzing.md\`; \`.ci/run\` runs each target for 10 s. The first campaign found that
-messages carrying an error accepted non-canonical encodings; fixed, with a regression test
-(\`host-tests/tests/telemetry.rs\`).
+\`docs/fuzzing.md\`; \`.ci/run\` runs each target for 20 000 executions from a fixed seed. The
+first campaigns found three bugs, each fixed with a regression test: messages carrying an
+error accepted non-canonical encodings, parameter chunks longer than a frame were accepted
+(\`host-tests/tests/telemetry.rs\`), and an imported state with parameters near 1e38 let a
+step return a non-finite prediction (\`host-tests/tests/fuzz_regressions.rs\`).
 
 ## Soak
 
