@@ -7,6 +7,24 @@ bash scripts/setup.sh
 table=$(cargo run -q -p host-tests --release --bin onboard_demo -- --cost)
 profile=$(cargo run -q -p host-tests --release --bin step_profile -- 100 106)
 size=$(arm-none-eabi-size firmware-example/target/thumbv7em-none-eabihf/release/firmware-example)
+# Flash by crate, from the symbol sizes (text and read-only data).
+by_crate=$(arm-none-eabi-nm --size-sort -S -C firmware-example/target/thumbv7em-none-eabihf/release/firmware-example | python3 -c '
+import sys, collections
+tot = collections.Counter()
+groups = ["rotorid_link", "rotorid_mavlink", "rotorid::", "firmware_ident", "firmware_example",
+          "libm", "compiler_builtins", "mavlink_core", "defmt", "crc", "cobs", "core::"]
+for line in sys.stdin:
+    p = line.split(None, 3)
+    if len(p) < 4 or p[2] not in "tTrR":
+        continue
+    name = p[3].strip().lstrip("<")
+    tot[next((g for g in groups if name.startswith(g)), "other (start-up, cortex-m-rt, outlined code)")] += int(p[1], 16)
+print("| crate (symbol prefix) | flash (B) |")
+print("|---|---:|")
+for k, v in tot.most_common():
+    label = k.rstrip(":")
+    print(f"| `{label}` | {v} |")
+')
 # Every identifier on a stream that fires every rule (firmware-example's step-cost binary).
 (cd firmware-example && cargo build -q --release --bin step-cost)
 worst=$(timeout 300 qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -display none \
@@ -47,6 +65,17 @@ terms, since up to three rules per model each make a 7-parameter update.
 \`\`\`
 ${size}
 \`\`\`
+
+Flash by crate, from the ELF's symbol sizes (\`arm-none-eabi-nm -S\`). With fat LTO a
+function inlined into another counts for the caller's crate, so these are approximate: the
+identification core is \`rotorid\` (the identifiers' code, monomorphised for the firmware's
+two identifiers) plus \`libm\` and \`compiler_builtins\` (\`sincosf\` computes in f64,
+soft-float on the M4F) and most of \`firmware_ident\` (the identifiers' instantiation and
+their messages). RAM: an identifier takes its \`size_of\` (\`cargo run -p rotorid --example
+memory\`: \`FlightIdentifier<f32>\` 2 824 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
+stack of one step (the service's peak is in the memory line above).
+
+${by_crate}
 
 Budgets: flash ≤ 256 KiB (text), RAM ≤ 64 KiB (static + stack). The firmware links with the
 repository's \`memory.x\` (64 KiB RAM). Static RAM includes the 6.2 KiB staging \`RlsState\` of
