@@ -13,6 +13,9 @@ done
 need_apt=()
 command -v qemu-system-arm >/dev/null 2>&1 || need_apt+=(qemu-system-arm)
 command -v arm-none-eabi-size >/dev/null 2>&1 || need_apt+=(binutils-arm-none-eabi)
+# The C interface's tests: a C compiler for the host and one for the Cortex-M4F firmware.
+command -v cc >/dev/null 2>&1 || need_apt+=(gcc)
+command -v arm-none-eabi-gcc >/dev/null 2>&1 || need_apt+=(gcc-arm-none-eabi)
 # python3 with venv for pymavlink (the MAVLink test, host-tests/tests/mavlink_pymavlink.rs).
 python3 -c 'import ensurepip' >/dev/null 2>&1 || need_apt+=(python3 python3-venv)
 if [ ${#need_apt[@]} -gt 0 ]; then

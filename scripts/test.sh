@@ -10,3 +10,6 @@ cargo test -p rotorid
 # Everything, optimised and in debug: the golden files must come out of both.
 cargo test --workspace --release
 cargo test --workspace
+# The C interface (its own workspace: a static library aborts on panic): the header is up to
+# date, and a C program on the host and a C firmware under QEMU match rotorid bit for bit.
+cargo test --manifest-path core/ffi/Cargo.toml

@@ -1,0 +1,242 @@
+//! The byte format of an exported identifier (warm start across flights).
+//!
+//! All fields little-endian; floats are IEEE-754 binary32 bit patterns:
+//!
+//! ```text
+//! header (12 B):  "RIDX"  format version u32 (= 1)  kind u32 (ROTORID_KIND_*)
+//! then for each model, in the order velocity, q̂, r̂, p̂,
+//!   for each estimator of the model (1 when learnt globally, one per rule when locally):
+//!     algorithm u32 (0 covariance, 1 U-D)   updates u32   θ: N × f32   packed P or U-D: N(N+1)/2 × f32
+//! ```
+//!
+//! The length is fixed per kind (`ROTORID_<KIND>_EXPORT_SIZE`). An import checks the header,
+//! the length and every value (through the core's own import checks) before it writes
+//! anything.
+
+use rotorid::hover::StateModel;
+use rotorid::rls::{Algorithm, RlsState};
+use rotorid::{Error, HoverIdentifier};
+
+/// Length of the export header: magic, format version, kind.
+pub const ROTORID_EXPORT_HEADER_SIZE: usize = 12;
+/// Version of the export format.
+pub const ROTORID_EXPORT_VERSION: u32 = 1;
+const MAGIC: [u8; 4] = *b"RIDX";
+
+/// A value with a fixed-length byte form.
+pub(crate) trait Wire: Copy {
+    /// Bytes of the byte form.
+    const LEN: usize;
+    /// A value to decode into (contents irrelevant).
+    fn blank() -> Self;
+    /// Writes the byte form; `out` holds at least `LEN` bytes.
+    fn put(&self, out: &mut Out<'_>);
+    /// Reads the byte form into `self`, in place (a state can be kilobytes: no copies on the
+    /// stack); `Incompatible` when too short or not a valid form.
+    fn read(&mut self, input: &mut In<'_>) -> Result<(), Error>;
+}
+
+/// A write cursor that never writes past its buffer (callers size it first; a short buffer
+/// only loses bytes, which the length check before every export rules out).
+pub(crate) struct Out<'a> {
+    bytes: &'a mut [u8],
+    at: usize,
+}
+
+impl<'a> Out<'a> {
+    pub(crate) fn new(bytes: &'a mut [u8]) -> Self {
+        Self { bytes, at: 0 }
+    }
+
+    fn word(&mut self, w: [u8; 4]) {
+        let end = self.at.saturating_add(4);
+        if let Some(dst) = self.bytes.get_mut(self.at..end) {
+            dst.copy_from_slice(&w);
+        }
+        self.at = end;
+    }
+}
+
+/// A read cursor.
+pub(crate) struct In<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> In<'a> {
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        Self { bytes, at: 0 }
+    }
+
+    fn word(&mut self) -> Result<[u8; 4], Error> {
+        let end = self.at.saturating_add(4);
+        let w = self
+            .bytes
+            .get(self.at..end)
+            .and_then(|w| <[u8; 4]>::try_from(w).ok())
+            .ok_or(Error::Incompatible)?;
+        self.at = end;
+        Ok(w)
+    }
+
+    fn u32(&mut self) -> Result<u32, Error> {
+        self.word().map(u32::from_le_bytes)
+    }
+}
+
+impl<const N: usize, const NP: usize> Wire for RlsState<f32, N, NP> {
+    const LEN: usize = 4 * (2 + N + NP);
+
+    fn blank() -> Self {
+        Self {
+            algorithm: Algorithm::UdFactor,
+            theta: [0.0; N],
+            factor: [0.0; NP],
+            updates: 0,
+        }
+    }
+
+    fn put(&self, out: &mut Out<'_>) {
+        let algorithm: u32 = match self.algorithm {
+            Algorithm::Covariance => 0,
+            Algorithm::UdFactor => 1,
+        };
+        out.word(algorithm.to_le_bytes());
+        out.word(self.updates.to_le_bytes());
+        for x in self.theta.iter().chain(self.factor.iter()) {
+            out.word(x.to_bits().to_le_bytes());
+        }
+    }
+
+    fn read(&mut self, input: &mut In<'_>) -> Result<(), Error> {
+        self.algorithm = match input.u32()? {
+            0 => Algorithm::Covariance,
+            1 => Algorithm::UdFactor,
+            _ => return Err(Error::Incompatible),
+        };
+        self.updates = input.u32()?;
+        for x in self.theta.iter_mut().chain(self.factor.iter_mut()) {
+            *x = f32::from_bits(input.u32()?);
+        }
+        Ok(())
+    }
+}
+
+impl<S: Wire, const R: usize> Wire for [S; R] {
+    const LEN: usize = S::LEN * R;
+
+    fn blank() -> Self {
+        [S::blank(); R]
+    }
+
+    fn put(&self, out: &mut Out<'_>) {
+        for s in self {
+            s.put(out);
+        }
+    }
+
+    fn read(&mut self, input: &mut In<'_>) -> Result<(), Error> {
+        self.iter_mut().try_for_each(|s| s.read(input))
+    }
+}
+
+/// Bytes of an export of the identifier type `HoverIdentifier<f32, V, Q, R, P>`.
+pub(crate) const fn export_size<V, Q, R, P>() -> usize
+where
+    V: StateModel<f32, State: Wire>,
+    Q: StateModel<f32, State: Wire>,
+    R: StateModel<f32, State: Wire>,
+    P: StateModel<f32, State: Wire>,
+{
+    ROTORID_EXPORT_HEADER_SIZE + V::State::LEN + Q::State::LEN + R::State::LEN + P::State::LEN
+}
+
+/// Writes the export of `id` (kind code `kind`) into `out`; returns the length written.
+/// `Err(())` when `out` is too short (nothing meaningful was written).
+pub(crate) fn export<V, Q, R, P>(
+    id: &HoverIdentifier<f32, V, Q, R, P>,
+    kind: u32,
+    out: &mut [u8],
+) -> Result<usize, ()>
+where
+    V: StateModel<f32, State: Wire>,
+    Q: StateModel<f32, State: Wire>,
+    R: StateModel<f32, State: Wire>,
+    P: StateModel<f32, State: Wire>,
+{
+    let len = export_size::<V, Q, R, P>();
+    let out = out.get_mut(..len).ok_or(())?;
+    let mut w = Out::new(out);
+    w.word(MAGIC);
+    w.word(ROTORID_EXPORT_VERSION.to_le_bytes());
+    w.word(kind.to_le_bytes());
+    put_model(id.velocity_model(), &mut w);
+    put_model(id.pitch_model(), &mut w);
+    put_model(id.yaw_model(), &mut w);
+    put_model(id.roll_model(), &mut w);
+    Ok(len)
+}
+
+// One model per call and never inlined: the stack holds one model's state at a time, never
+// four (a firmware's stack is small; the paper's fuzzy velocity model alone is 6 KiB).
+
+#[inline(never)]
+fn put_model<M: StateModel<f32, State: Wire>>(m: &M, w: &mut Out<'_>) {
+    m.export().put(w);
+}
+
+#[inline(never)]
+fn check_model<M: StateModel<f32, State: Wire>>(m: &M, r: &mut In<'_>) -> Result<(), Error> {
+    let mut s = M::State::blank();
+    s.read(r)?;
+    m.check_import(&s)
+}
+
+#[inline(never)]
+fn import_model<M: StateModel<f32, State: Wire>>(m: &mut M, r: &mut In<'_>) -> Result<(), Error> {
+    let mut s = M::State::blank();
+    s.read(r)?;
+    m.import(&s)
+}
+
+/// Imports an export of kind `kind` into `id`. Every model's state is decoded and checked
+/// before any is written; on `Err` nothing changed. The sample chain restarts.
+pub(crate) fn import<V, Q, R, P>(
+    id: &mut HoverIdentifier<f32, V, Q, R, P>,
+    kind: u32,
+    bytes: &[u8],
+) -> Result<(), Error>
+where
+    V: StateModel<f32, State: Wire>,
+    Q: StateModel<f32, State: Wire>,
+    R: StateModel<f32, State: Wire>,
+    P: StateModel<f32, State: Wire>,
+{
+    if bytes.len() != export_size::<V, Q, R, P>() {
+        return Err(Error::Incompatible);
+    }
+    let header = |r: &mut In<'_>| -> Result<(), Error> {
+        let ok = r.word()? == MAGIC && r.u32()? == ROTORID_EXPORT_VERSION && r.u32()? == kind;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::Incompatible)
+        }
+    };
+    // Pass 1: decode and check each model.
+    let mut r = In::new(bytes);
+    header(&mut r)?;
+    check_model(id.velocity_model(), &mut r)?;
+    check_model(id.pitch_model(), &mut r)?;
+    check_model(id.yaw_model(), &mut r)?;
+    check_model(id.roll_model(), &mut r)?;
+    // Pass 2: the same bytes again, now known to be accepted.
+    let mut r = In::new(bytes);
+    header(&mut r)?;
+    import_model(id.velocity_model_mut(), &mut r)?;
+    import_model(id.pitch_model_mut(), &mut r)?;
+    import_model(id.yaw_model_mut(), &mut r)?;
+    import_model(id.roll_model_mut(), &mut r)?;
+    id.end_chain();
+    Ok(())
+}

@@ -1,0 +1,63 @@
+//! C interface to [`rotorid`]: a `no_std` static library and its header `include/rotorid.h`.
+//!
+//! A C or C++ autopilot (PX4, ArduPilot, Betaflight, ...) links `librotorid_ffi.a` (built for
+//! the host or for `thumbv7em-none-eabihf`) and includes the header, which `cbindgen` generates
+//! from this crate (`tests/header.rs` fails when the committed header is stale). It depends on
+//! `rotorid` only and adds no number of its own: a C program gets the bits the Rust API gives.
+//!
+//! - **Storage**: every identifier lives in memory the caller provides (no `malloc`): at least
+//!   `ROTORID_<KIND>_STORAGE_SIZE` bytes aligned to [`ROTORID_STORAGE_ALIGN`]. The handle is a
+//!   pointer into it, checked on every call (null, alignment, a tag word written by
+//!   [`rotorid_init`]).
+//! - **Identifiers**: the flight default and the paper's variants (`ROTORID_KIND_*`), f32.
+//! - **Errors**: every call returns [`ROTORID_OK`] or a code that names one core error
+//!   ([`rotorid::Error`], [`rotorid::ConfigError`]) or one interface error (null pointer, small
+//!   buffer, ...); [`rotorid_error_t`] gives the detail. A call that fails changes nothing.
+//! - **Export/import**: a documented byte format (see [`export`]) for warm starts.
+//! - **Sweeps**: Table 2's frequency sweeps and their schedule ([`sweep`]).
+//!
+//! No panic: the library holds no `unwrap`, no unchecked index and no arithmetic that can
+//! overflow (clippy denies them); on `no_std` targets the panic handler is an endless loop
+//! that the link-time check of `.ci/run` proves unreachable.
+
+#![no_std]
+#![allow(non_camel_case_types)]
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod export;
+pub mod identifier;
+pub mod sweep;
+pub mod types;
+
+pub use error::*;
+pub use export::*;
+pub use identifier::*;
+pub use sweep::*;
+pub use types::*;
+
+/// The library cannot panic (see the crate docs); a static library needs a handler all the
+/// same. Test builds link `std`, which brings its own.
+#[cfg(not(test))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    loop {}
+}
+
+/// On hosted targets Rust's precompiled `core` refers to the unwinder's personality routine
+/// even when everything aborts on panic; this library never unwinds, so it is never called.
+#[cfg(all(not(test), not(target_os = "none")))]
+#[no_mangle]
+pub extern "C" fn rust_eh_personality() {}

@@ -1,0 +1,191 @@
+//! The plain C structs a caller fills and reads: sample, state, step output, settings and the
+//! flight identifier's premise sets. Units and axes are the core's (see `rotorid::hover`): the
+//! paper's inertial axes (x east, y up, z south), body rates `[q r p]` in deg/s.
+
+use rotorid::hover::{Attitude, Controls, HoverSample, HoverState, RegressorScaling, StepOutput};
+use rotorid::rls::{Algorithm, RlsConfig};
+use rotorid::{Error, HoverConfig, Quantity};
+
+/// One measurement sample at time step k.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct rotorid_sample_t {
+    /// Time stamp (µs, monotonic).
+    pub time_us: u64,
+    /// Roll φ (rad), right side down positive; |φ| ≤ 3.2.
+    pub roll: f32,
+    /// Pitch θ (rad), nose up positive; |θ| ≤ 1.6.
+    pub pitch: f32,
+    /// Yaw ψ (rad), clockwise from north seen from above; |ψ| ≤ 6.3.
+    pub yaw: f32,
+    /// Inertial velocity `[v_x v_y v_z]` (m/s; paper axes: x east, y up, z south); each ≤ 100.
+    pub velocity: [f32; 3],
+    /// Body rates `[q r p]` (deg/s: pitch, yaw, roll); each ≤ 2000.
+    pub rates: [f32; 3],
+    /// Controls `[u_col u_ped u_lon u_lat]` applied from this sample to the next (−1…1).
+    pub controls: [f32; 4],
+}
+
+impl From<&rotorid_sample_t> for HoverSample<f32> {
+    fn from(s: &rotorid_sample_t) -> Self {
+        let [col, ped, lon, lat] = s.controls;
+        HoverSample {
+            time_us: s.time_us,
+            attitude: Attitude {
+                roll: s.roll,
+                pitch: s.pitch,
+                yaw: s.yaw,
+            },
+            velocity: s.velocity,
+            rates: s.rates,
+            controls: Controls { col, ped, lon, lat },
+        }
+    }
+}
+
+/// The six states the identifier predicts.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct rotorid_state_t {
+    /// `[v_x v_y v_z]` (m/s, paper axes).
+    pub velocity: [f32; 3],
+    /// `[q r p]` (deg/s).
+    pub rates: [f32; 3],
+}
+
+impl From<HoverState<f32>> for rotorid_state_t {
+    fn from(s: HoverState<f32>) -> Self {
+        Self {
+            velocity: s.velocity,
+            rates: s.rates,
+        }
+    }
+}
+
+impl From<&rotorid_state_t> for HoverState<f32> {
+    fn from(s: &rotorid_state_t) -> Self {
+        HoverState {
+            velocity: s.velocity,
+            rates: s.rates,
+        }
+    }
+}
+
+/// What `rotorid_step` reports.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct rotorid_step_output_t {
+    /// One-step prediction of the next sample's state, from the updated parameters.
+    pub prediction: rotorid_state_t,
+    /// Prior innovations `Δy − ξᵀθ(k)` of this step's update; zero when `has_innovation` is 0.
+    pub innovation: rotorid_state_t,
+    /// 1 when the step learnt (and `innovation` is valid), 0 when it only started a sample
+    /// chain (first sample, or after a resume, reset or import).
+    pub has_innovation: u32,
+}
+
+impl From<StepOutput<f32>> for rotorid_step_output_t {
+    fn from(o: StepOutput<f32>) -> Self {
+        Self {
+            prediction: o.prediction.into(),
+            innovation: o.innovation.map(Into::into).unwrap_or_default(),
+            has_innovation: u32::from(o.innovation.is_some()),
+        }
+    }
+}
+
+/// RLS covariance form: the paper's covariance propagation (packed symmetric P).
+pub const ROTORID_ALGORITHM_COVARIANCE: u32 = 0;
+/// RLS covariance form: Bierman's U-D factorisation (the robust form, the default).
+pub const ROTORID_ALGORITHM_UD: u32 = 1;
+/// Regressor scaling: raw physical units, as the paper.
+pub const ROTORID_SCALING_NONE: u32 = 0;
+/// Regressor scaling: nominal miniature-helicopter scales (well conditioned in f32; default).
+pub const ROTORID_SCALING_HELICOPTER: u32 = 1;
+
+/// Settings of an identifier (`rotorid::HoverConfig`). Fill it with
+/// `rotorid_config_default` or
+/// `rotorid_config_paper` and change what you need.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct rotorid_config_t {
+    /// `ROTORID_ALGORITHM_COVARIANCE` or `ROTORID_ALGORITHM_UD`.
+    pub algorithm: u32,
+    /// α in P(0) = αI, the prior variance of each parameter; in (0, 1e12].
+    pub initial_covariance: f32,
+    /// Forgetting factor λ ∈ [0.9, 1]; 1 forgets nothing.
+    pub forgetting: f32,
+    /// Windup guard for λ < 1: upper bound on trace(P); in (0, 1e12].
+    pub max_trace: f32,
+    /// Nominal sample period ΔT (µs); the parameters are per-step quantities.
+    pub sample_period_us: u32,
+    /// Accepted deviation of one interval from ΔT (µs); less than ΔT.
+    pub period_tolerance_us: u32,
+    /// `ROTORID_SCALING_NONE` or `ROTORID_SCALING_HELICOPTER`.
+    pub scaling: u32,
+}
+
+impl From<HoverConfig<f32>> for rotorid_config_t {
+    fn from(c: HoverConfig<f32>) -> Self {
+        Self {
+            algorithm: match c.rls.algorithm {
+                Algorithm::Covariance => ROTORID_ALGORITHM_COVARIANCE,
+                Algorithm::UdFactor => ROTORID_ALGORITHM_UD,
+            },
+            initial_covariance: c.rls.initial_covariance,
+            forgetting: c.rls.forgetting,
+            max_trace: c.rls.max_trace,
+            sample_period_us: c.sample_period_us,
+            period_tolerance_us: c.period_tolerance_us,
+            scaling: match c.scaling {
+                RegressorScaling::None => ROTORID_SCALING_NONE,
+                // `RegressorScaling` may grow; a new kind reads as the default.
+                _ => ROTORID_SCALING_HELICOPTER,
+            },
+        }
+    }
+}
+
+impl TryFrom<&rotorid_config_t> for HoverConfig<f32> {
+    type Error = Error;
+
+    /// The core validates the values; here only the two codes are checked
+    /// (`OutOfRange(Config)` for an unknown one).
+    fn try_from(c: &rotorid_config_t) -> Result<Self, Error> {
+        let algorithm = match c.algorithm {
+            ROTORID_ALGORITHM_COVARIANCE => Algorithm::Covariance,
+            ROTORID_ALGORITHM_UD => Algorithm::UdFactor,
+            _ => return Err(Error::OutOfRange(Quantity::Config)),
+        };
+        let scaling = match c.scaling {
+            ROTORID_SCALING_NONE => RegressorScaling::None,
+            ROTORID_SCALING_HELICOPTER => RegressorScaling::Helicopter,
+            _ => return Err(Error::OutOfRange(Quantity::Config)),
+        };
+        Ok(HoverConfig {
+            rls: RlsConfig {
+                algorithm,
+                initial_covariance: c.initial_covariance,
+                forgetting: c.forgetting,
+                max_trace: c.max_trace,
+            },
+            sample_period_us: c.sample_period_us,
+            period_tolerance_us: c.period_tolerance_us,
+            scaling,
+        })
+    }
+}
+
+/// The forward-speed premise sets of `ROTORID_KIND_FLIGHT` (m/s, heading frame): a left
+/// shoulder, a Gaussian and a right shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
+/// shoulder's centre. Defaults (`rotorid_flight_sets_default`):
+/// centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
+/// (`rotorid::premise::quantile_sets`).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct rotorid_flight_sets_t {
+    /// Centres c of the left shoulder, the Gaussian and the right shoulder (m/s).
+    pub centre: [f32; 3],
+    /// Spreads σ of the same sets (m/s, > 0).
+    pub spread: [f32; 3],
+}
