@@ -274,6 +274,24 @@ static int drive_interface_errors(drive_emit_t emit) {
     CHECK(rc == ROTORID_OK && out.has_innovation == 0, "first step", rc);
     rc = rotorid_step(id, &s, &out, &err);
     CHECK(rc == ROTORID_E_NON_MONOTONIC_TIME, "repeated time stamp", rc);
+    {
+        /* The NED/FRD conversion: 1 m/s north, 2 east, 0.5 down; rolling right at 0.1 rad/s. */
+        rotorid_ned_frd_sample_t ned = {20000u, {0.05f, -0.02f, 1.0f}, {1.0f, 2.0f, 0.5f},
+                                        {0.1f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f, 0.0f}};
+        rotorid_sample_t paper;
+        rotorid_state_t state;
+        float v[3], w[3];
+        rc = rotorid_sample_from_ned_frd(&ned, &paper);
+        CHECK(rc == ROTORID_OK && paper.velocity[0] == 2.0f && paper.velocity[1] == -0.5f &&
+                  paper.velocity[2] == -1.0f && paper.rates[0] == 0.0f && paper.rates[2] > 5.7f,
+              "NED/FRD to paper axes", rc);
+        memcpy(state.velocity, paper.velocity, sizeof state.velocity);
+        memcpy(state.rates, paper.rates, sizeof state.rates);
+        rc = rotorid_state_to_ned_frd(&state, v, w);
+        CHECK(rc == ROTORID_OK && v[0] == 1.0f && v[1] == 2.0f && v[2] == 0.5f && w[0] > 0.099f &&
+                  w[0] < 0.101f,
+              "paper axes to NED/FRD", rc);
+    }
     s.controls[2] = 1.5f;
     s.time_us += 20000u;
     rc = rotorid_step(id, &s, &out, &err);

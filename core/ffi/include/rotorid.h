@@ -402,6 +402,80 @@
 typedef struct rotorid_ident_t rotorid_ident_t;
 
 /**
+ * One sample in the NED / FRD convention.
+ */
+typedef struct {
+  /**
+   * Time stamp (µs, monotonic).
+   */
+  uint64_t time_us;
+  /**
+   * ZYX Euler angles `[φ θ ψ]` (rad): roll, pitch, yaw (heading from north).
+   */
+  float euler[3];
+  /**
+   * Velocity `[v_n v_e v_d]` (m/s).
+   */
+  float velocity_ned[3];
+  /**
+   * Body rates `[p q r]` about forward, right, down (rad/s).
+   */
+  float rates_frd[3];
+  /**
+   * Controls `[u_col u_ped u_lon u_lat]` (−1…1).
+   */
+  float controls[4];
+} rotorid_ned_frd_sample_t;
+
+/**
+ * One measurement sample at time step k.
+ */
+typedef struct {
+  /**
+   * Time stamp (µs, monotonic).
+   */
+  uint64_t time_us;
+  /**
+   * Roll φ (rad), right side down positive; |φ| ≤ 3.2.
+   */
+  float roll;
+  /**
+   * Pitch θ (rad), nose up positive; |θ| ≤ 1.6.
+   */
+  float pitch;
+  /**
+   * Yaw ψ (rad), clockwise from north seen from above; |ψ| ≤ 6.3.
+   */
+  float yaw;
+  /**
+   * Inertial velocity `[v_x v_y v_z]` (m/s; paper axes: x east, y up, z south); each ≤ 100.
+   */
+  float velocity[3];
+  /**
+   * Body rates `[q r p]` (deg/s: pitch, yaw, roll); each ≤ 2000.
+   */
+  float rates[3];
+  /**
+   * Controls `[u_col u_ped u_lon u_lat]` applied from this sample to the next (−1…1).
+   */
+  float controls[4];
+} rotorid_sample_t;
+
+/**
+ * The six states the identifier predicts.
+ */
+typedef struct {
+  /**
+   * `[v_x v_y v_z]` (m/s, paper axes).
+   */
+  float velocity[3];
+  /**
+   * `[q r p]` (deg/s).
+   */
+  float rates[3];
+} rotorid_state_t;
+
+/**
  * Settings of an identifier (`rotorid::HoverConfig`). Fill it with
  * `rotorid_config_default` or
  * `rotorid_config_paper` and change what you need.
@@ -503,54 +577,6 @@ typedef struct {
 } rotorid_error_t;
 
 /**
- * One measurement sample at time step k.
- */
-typedef struct {
-  /**
-   * Time stamp (µs, monotonic).
-   */
-  uint64_t time_us;
-  /**
-   * Roll φ (rad), right side down positive; |φ| ≤ 3.2.
-   */
-  float roll;
-  /**
-   * Pitch θ (rad), nose up positive; |θ| ≤ 1.6.
-   */
-  float pitch;
-  /**
-   * Yaw ψ (rad), clockwise from north seen from above; |ψ| ≤ 6.3.
-   */
-  float yaw;
-  /**
-   * Inertial velocity `[v_x v_y v_z]` (m/s; paper axes: x east, y up, z south); each ≤ 100.
-   */
-  float velocity[3];
-  /**
-   * Body rates `[q r p]` (deg/s: pitch, yaw, roll); each ≤ 2000.
-   */
-  float rates[3];
-  /**
-   * Controls `[u_col u_ped u_lon u_lat]` applied from this sample to the next (−1…1).
-   */
-  float controls[4];
-} rotorid_sample_t;
-
-/**
- * The six states the identifier predicts.
- */
-typedef struct {
-  /**
-   * `[v_x v_y v_z]` (m/s, paper axes).
-   */
-  float velocity[3];
-  /**
-   * `[q r p]` (deg/s).
-   */
-  float rates[3];
-} rotorid_state_t;
-
-/**
  * What `rotorid_step` reports.
  */
 typedef struct {
@@ -645,6 +671,24 @@ void rust_eh_personality(void);
  * `"ROTORID_E_?"` for a code this library does not know.
  */
 const char *rotorid_error_name(int32_t code);
+
+/**
+ * Converts a NED/FRD sample to the identifier's axes and units (paper axes, deg/s).
+ *
+ * # Safety
+ * `input` and `out` are NULL or valid.
+ */
+int32_t rotorid_sample_from_ned_frd(const rotorid_ned_frd_sample_t *input, rotorid_sample_t *out);
+
+/**
+ * Converts a predicted state back to NED velocity (m/s) and FRD body rates (rad/s).
+ *
+ * # Safety
+ * `state` is NULL or valid; `velocity_ned` and `rates_frd` are NULL or point to 3 floats each.
+ */
+int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
+                                 float *velocity_ned,
+                                 float *rates_frd);
 
 /**
  * Storage bytes an identifier of `kind` needs (0 for an unknown kind).

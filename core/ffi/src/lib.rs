@@ -15,6 +15,7 @@
 //!   buffer, ...); [`rotorid_error_t`] gives the detail. A call that fails changes nothing.
 //! - **Export/import**: a documented byte format (see [`export`]) for warm starts.
 //! - **Sweeps**: Table 2's frequency sweeps and their schedule ([`sweep`]).
+//! - **Frames**: samples from NED velocity and FRD rates in rad/s ([`frames`]).
 //!
 //! No panic: the library holds no `unwrap`, no unchecked index and no arithmetic that can
 //! overflow (clippy denies them); on `no_std` targets the panic handler is an endless loop
@@ -38,12 +39,14 @@
 
 pub mod error;
 pub mod export;
+pub mod frames;
 pub mod identifier;
 pub mod sweep;
 pub mod types;
 
 pub use error::*;
 pub use export::*;
+pub use frames::*;
 pub use identifier::*;
 pub use sweep::*;
 pub use types::*;
