@@ -37,17 +37,21 @@
 )]
 #![warn(missing_docs)]
 
+pub mod calls;
 pub mod error;
 pub mod export;
 pub mod frames;
-pub mod identifier;
+pub mod handle;
+pub mod kinds;
 pub mod sweep;
 pub mod types;
 
+pub use calls::*;
 pub use error::*;
 pub use export::*;
 pub use frames::*;
-pub use identifier::*;
+pub use handle::*;
+pub use kinds::*;
 pub use sweep::*;
 pub use types::*;
 

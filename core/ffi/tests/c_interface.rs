@@ -370,7 +370,8 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
                 "-mfpu=fpv4-sp-d16",
             ])
             .args(C_FLAGS)
-            .args(["-ffreestanding", "-nostdlib", define, "-ffunction-sections"])
+            .args(["-ffreestanding", "-nostdlib", "-ffunction-sections"])
+            .args(define.split(' '))
             .args(["-Wl,--gc-sections", "-z", "noexecstack"])
             .arg("-I")
             .arg(crate_dir().join("include"))
@@ -413,11 +414,33 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
     let (stack, report) = split(&firmware("-DDRIVE_SMALL", &dir.join("firmware.elf")));
     eprintln!("C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes");
     assert_eq!(report, expected(&flight, true));
-    // The stack each kind needs on its own (everything else in the firmware is the same).
-    for kind in [1, 2, 3, 4, 6, 7, 8] {
+    // Each kind on its own, through its own init (which links that kind's code only): the
+    // stack it needs and the flash it takes (text without the flight's data).
+    let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
+    let inits = [
+        (1, "flight"),
+        (2, "flight_plain"),
+        (3, "paper_fuzzy"),
+        (4, "paper_plain"),
+        (6, "extended_plain"),
+        (7, "paper_local"),
+        (8, "extended_local"),
+    ];
+    for (kind, name) in inits {
         let elf = dir.join(format!("kind{kind}.elf"));
-        let (stack, report) = split(&firmware(&format!("-DDRIVE_ONLY={kind}"), &elf));
+        let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
+        let (stack, report) = split(&firmware(&only, &elf));
         assert!(report.contains(&format!("kind {kind} steps")), "{report}");
-        eprintln!("C firmware, kind {kind} only: {stack} bytes");
+        let size = run(Command::new("arm-none-eabi-size").arg(&elf));
+        let text: usize = size
+            .lines()
+            .nth(1)
+            .and_then(|l| l.split_whitespace().next())
+            .and_then(|t| t.parse().ok())
+            .unwrap();
+        eprintln!(
+            "C firmware, rotorid_init_{name} only: {stack} bytes, text {} bytes",
+            text - flight_bytes
+        );
     }
 }
