@@ -344,6 +344,15 @@ fn c_host_program_matches_rotorid_bit_for_bit() {
         .arg(&program));
     let report = run(&mut Command::new(&program));
     assert_eq!(report, expected(&flight, false));
+    // The documentation's example compiles as it stands.
+    run(Command::new("cc")
+        .args(C_FLAGS)
+        .arg("-c")
+        .arg("-I")
+        .arg(crate_dir().join("include"))
+        .arg(c.join("example.c"))
+        .arg("-o")
+        .arg(dir.join("example.o")));
 }
 
 #[test]
