@@ -420,9 +420,19 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         assert_eq!(stack.len(), 1, "no stack report in {report}");
         (stack.concat(), rest.join("\n") + "\n")
     };
-    let (stack, report) = split(&firmware("-DDRIVE_SMALL", &dir.join("firmware.elf")));
+    let elf = dir.join("firmware.elf");
+    let (stack, report) = split(&firmware("-DDRIVE_SMALL", &elf));
     eprintln!("C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes");
     assert_eq!(report, expected(&flight, true));
+    // No panic path: the library's every function in the firmware, by the static call graph.
+    let script = crate_dir().join("../../scripts/no_panic.py");
+    let panics = run_both(
+        Command::new("python3")
+            .arg(script)
+            .arg(&elf)
+            .arg("--strict"),
+    );
+    assert!(panics.0.starts_with("0 of our functions"), "{}", panics.0);
     // Each kind on its own, through its own init (which links that kind's code only): the
     // stack it needs and the flash it takes (text without the flight's data).
     let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
