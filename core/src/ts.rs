@@ -25,7 +25,7 @@
 
 use crate::error::{ConfigError, Error, Quantity};
 use crate::rls::{
-    col, Everything, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
+    col, AllParameters, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
@@ -230,7 +230,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         Ok(prepared.innovations)
     }
 
-    /// Everything [`update`](Self::update) checks and computes, without changing anything.
+    /// AllParameters [`update`](Self::update) checks and computes, without changing anything.
     /// Pass the result to [`apply`](Self::apply) to learn from it; this lets a caller check
     /// several models before it changes any of them.
     ///
@@ -287,7 +287,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             // λ once per sample: the earlier rows are plain measurement updates.
             let lambda = if r == last { forgetting } else { T::one() };
             if small {
-                self.rls.update_row(&xi, Everything(N), e, lambda);
+                self.rls.update_row(&xi, AllParameters(N), e, lambda);
             } else {
                 self.rls.update_row(&xi, support, e, lambda);
             }
@@ -767,7 +767,7 @@ mod tests {
                         prepared.targets[r] - dense.dot(&xi)
                     };
                     let l = if r + 1 == prepared.count { lambda } else { 1.0 };
-                    dense.update_row(&xi, Everything(72), e, l);
+                    dense.update_row(&xi, AllParameters(72), e, l);
                 }
                 ts.apply(&prepared);
                 let (a, b) = (bits(&ts.export()), bits(&dense.export()));
