@@ -25,7 +25,8 @@
 
 use crate::error::{ConfigError, Error, Quantity};
 use crate::rls::{
-    col, AllParameters, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
+    col, AllParameters, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT,
+    TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};

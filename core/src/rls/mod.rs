@@ -52,8 +52,8 @@ use crate::scalar::{within, Real};
 
 mod update;
 
-pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 use update::RlsSlices;
+pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 
 /// Largest accepted magnitude of a regressor entry `ξ_j`.
 ///
@@ -533,7 +533,13 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// The work is done by `RlsSlices::update`, generic over the scalar only: one copy of the
     /// update code serves every size N (a firmware with several models would otherwise carry
     /// one per size).
-    pub(crate) fn update_row<S: ParameterSupport>(&mut self, xi: &[T; N], support: S, e: T, lambda: T) {
+    pub(crate) fn update_row<S: ParameterSupport>(
+        &mut self,
+        xi: &[T; N],
+        support: S,
+        e: T,
+        lambda: T,
+    ) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];

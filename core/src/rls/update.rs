@@ -441,7 +441,13 @@ impl<T: Real> RlsSlices<'_, T> {
 /// support says so ([`ParameterSupport::dense_sums`]), else over the non-zero ξ_i only (`nz`, ascending). The same bits either way: a
 /// zero ξ_i adds ±0, which changes no non-zero sum and at most the sign of a zero one.
 #[inline(always)]
-fn sum_below<T: Real>(support: impl ParameterSupport, start: T, above: &[T], xi: &[T], nz: &[u16]) -> T {
+fn sum_below<T: Real>(
+    support: impl ParameterSupport,
+    start: T,
+    above: &[T],
+    xi: &[T],
+    nz: &[u16],
+) -> T {
     let mut s = start;
     if support.dense_sums() {
         for (&a, &x) in above.iter().zip(xi) {
@@ -462,4 +468,3 @@ fn sum_below<T: Real>(support: impl ParameterSupport, start: T, above: &[T], xi:
     }
     s
 }
-
