@@ -1,5 +1,8 @@
 //! Recursive least squares (paper Section 4), statically sized.
 //!
+//! (Over 600 lines: the settings, state and checked API of one estimator; the update
+//! kernels are in `update.rs`.)
+//!
 //! The estimator solves `y(k) ≈ ξ(k)ᵀθ` for the parameter vector θ ∈ ℝᴺ, one scalar
 //! measurement at a time. Only the `NP = N(N+1)/2` distinct entries of the symmetric
 //! covariance P (or of its U-D factors) are stored, packed column by column: entry (i, j) with
