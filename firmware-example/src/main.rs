@@ -12,7 +12,8 @@
 //! * [`mavlink_port`]: MAVLink 2 telemetry on UART1 beside the link (docs/protocol.md,
 //!   "MAVLink 2"); on a vehicle, wire it to the telemetry radio's UART.
 //! * [`semihosting_log`]: the defmt transport for QEMU.
-//! * [`firmware_ident`] (crate `ident/`): the onboard identifiers (fuzzy + plain) and the identification messages.
+//! * `firmware_example::ident` (the library, `src/lib.rs`): the onboard identifiers (fuzzy +
+//!   plain) and the identification messages.
 //!
 //! ## Running it on a real flight computer
 //!
@@ -51,7 +52,7 @@ fn main() -> ! {
     let Some(cp) = cortex_m::Peripherals::take() else {
         board::exit(board::EXIT_INIT)
     };
-    let Some(engine) = firmware_ident::Engine::take() else {
+    let Some(engine) = firmware_example::ident::Identification::take() else {
         defmt::error!("identifier construction failed");
         board::exit(board::EXIT_INIT)
     };
