@@ -24,8 +24,8 @@ use rotorid::hover::HoverSnapshot;
 use rotorid::hover::StateModel;
 use rotorid::rls::Rls;
 use rotorid::sweep::SweepSchedule;
-use rotorid::RlsState;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{RlsState, RlsView};
 use rotorid_link::msg::{
     self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
     RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
@@ -119,10 +119,9 @@ fn store_state_byte(
 ) -> bool {
     match pos {
         0 => {
-            *algorithm = match b {
-                0 => rotorid::Algorithm::Covariance,
-                1 => rotorid::Algorithm::UdFactor,
-                _ => return false,
+            *algorithm = match rotorid::Algorithm::from_code(b) {
+                Some(a) => a,
+                None => return false,
             };
         }
         1..=4 => {
@@ -356,16 +355,10 @@ impl Identification {
     pub fn params(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
         match (ident, &self.fuzzy, &self.plain) {
             (Ident::Plain, _, Ok(p)) => {
-                send_model_params(out, ident, 0, p.velocity_model().ts().rls());
-                send_model_params(out, ident, 1, p.pitch_model().ts().rls());
-                send_model_params(out, ident, 2, p.yaw_model().ts().rls());
-                send_model_params(out, ident, 3, p.roll_model().ts().rls());
+                p.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
             (Ident::Fuzzy, Ok(f), _) => {
-                send_model_params(out, ident, 0, f.velocity_model().ts().rls());
-                send_model_params(out, ident, 1, f.pitch_model().ts().rls());
-                send_model_params(out, ident, 2, f.yaw_model().ts().rls());
-                send_model_params(out, ident, 3, f.roll_model().ts().rls());
+                f.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
             _ => out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused),
         }
@@ -623,45 +616,40 @@ fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
     })
 }
 
-/// Sends one model's θ, diag(P) and summary as `Params` chunks.
-fn send_model_params<const N: usize, const NP: usize>(
-    out: &mut dyn Reply,
-    ident: Ident,
-    model: u8,
-    rls: &Rls<f32, N, NP>,
-) {
-    let diag = rls.covariance_diagonal();
-    for (field, values) in [
-        (ParamField::Theta, rls.parameters()),
-        (ParamField::CovarianceDiagonal, &diag),
-    ] {
-        for (i, part) in values.chunks(ParamsChunk::MAX_WORDS).enumerate() {
+/// Sends one estimator's θ, diag(P) and summary as `Params` chunks. Size-erased (an
+/// [`RlsView`]): one copy serves every model of both identifiers.
+fn send_model_params(out: &mut dyn Reply, ident: Ident, model: u8, rls: &RlsView<'_, f32>) {
+    let n = rls.len();
+    for field in [ParamField::Theta, ParamField::CovarianceDiagonal] {
+        let value = |i: usize| match field {
+            ParamField::Theta => rls.parameters().get(i).copied(),
+            _ => rls.covariance_diagonal_entry(i),
+        };
+        for start in (0..n).step_by(ParamsChunk::MAX_WORDS) {
+            let end = n.min(start + ParamsChunk::MAX_WORDS);
             let mut words = [0u8; 4 * ParamsChunk::MAX_WORDS];
-            for (dst, v) in words.chunks_exact_mut(4).zip(part) {
+            for (dst, i) in words.chunks_exact_mut(4).zip(start..end) {
+                let v = value(i).unwrap_or(0.0);
                 dst.copy_from_slice(&v.to_bits().to_le_bytes());
             }
             let c = ParamsChunk {
                 ident,
                 model,
                 field,
-                index: (i * ParamsChunk::MAX_WORDS) as u16,
-                total: N as u16,
-                words: words.get(..4 * part.len()).unwrap_or_default(),
+                index: start as u16,
+                total: n as u16,
+                words: words.get(..4 * (end - start)).unwrap_or_default(),
             };
             out.reply(MsgType::Params, &mut |w| c.write(w));
         }
     }
     let counters = rls.counters();
-    let algorithm = match rls.config().algorithm {
-        rotorid::Algorithm::Covariance => 0u32,
-        rotorid::Algorithm::UdFactor => 1,
-    };
     let summary = [
         rls.trace().to_bits(),
         counters.updates,
         counters.windup_guards,
         counters.numerical_skips,
-        algorithm,
+        u32::from(rls.algorithm().code()),
     ];
     let mut words = [0u8; 4 * ParamsChunk::SUMMARY_WORDS];
     for (dst, v) in words.chunks_exact_mut(4).zip(summary) {

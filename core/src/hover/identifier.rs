@@ -4,6 +4,7 @@ use crate::error::Error;
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, StateModel};
 use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
+use crate::rls::RlsView;
 use crate::scalar::Real;
 
 /// What one [`HoverIdentifier::step`] reports.
@@ -16,6 +17,36 @@ pub struct StepOutput<T> {
     /// previous step's prediction, up to rounding); `None` when the step only started a
     /// sample chain (first sample, or after [`HoverIdentifier::resume`]).
     pub innovation: Option<HoverState<T>>,
+}
+
+/// The four models of a [`HoverIdentifier`], in export order.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ModelId {
+    /// The translational model (Eq. 27): `[v_x v_y v_z]`.
+    Velocity,
+    /// The q̂ model (Eq. 28).
+    Pitch,
+    /// The r̂ model (Eq. 29).
+    Yaw,
+    /// The p̂ model (Eq. 30).
+    Roll,
+}
+
+impl ModelId {
+    /// The four, in export order.
+    pub const ALL: [ModelId; 4] = [Self::Velocity, Self::Pitch, Self::Yaw, Self::Roll];
+
+    /// Position in export order (0 velocity, 1 q̂, 2 r̂, 3 p̂), the model number of the
+    /// telemetry messages.
+    pub const fn index(self) -> u8 {
+        match self {
+            Self::Velocity => 0,
+            Self::Pitch => 1,
+            Self::Yaw => 2,
+            Self::Roll => 3,
+        }
+    }
 }
 
 /// Everything a [`HoverIdentifier`] has learnt (warm start across flights).
@@ -156,6 +187,26 @@ where
     /// The p̂ model.
     pub fn roll_model(&self) -> &P {
         &self.roll
+    }
+
+    /// Calls `f` with every RLS estimator of the four models, in export order: the model, the
+    /// estimator's index within it (0 when learnt globally; the rule when learnt locally) and
+    /// a size-erased view ([`RlsView`]). One routine that sends, stores or
+    /// prints estimators then serves every identifier.
+    pub fn for_each_rls(&self, mut f: impl FnMut(ModelId, usize, RlsView<'_, T>)) {
+        for model in ModelId::ALL {
+            let mut index = 0;
+            let mut visit = |v: RlsView<'_, T>| {
+                f(model, index, v);
+                index += 1;
+            };
+            match model {
+                ModelId::Velocity => self.velocity.for_each_rls(&mut visit),
+                ModelId::Pitch => self.pitch.for_each_rls(&mut visit),
+                ModelId::Yaw => self.yaw.for_each_rls(&mut visit),
+                ModelId::Roll => self.roll.for_each_rls(&mut visit),
+            }
+        }
     }
 
     /// The sample the next step will learn from, if any.
