@@ -3,8 +3,8 @@
 use core::fmt;
 
 use super::{
-    msg::MsgType, CRC, CRC_LEN, DELIMITER, HEADER_LEN, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_RAW_LEN,
-    MIN_RAW_LEN, VERSION,
+    CRC, CRC_LEN, DELIMITER, HEADER_LEN, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_RAW_LEN, MIN_RAW_LEN,
+    VERSION,
 };
 
 /// Why a frame could not be encoded.
@@ -93,19 +93,12 @@ impl core::error::Error for FrameError {}
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Frame<'a> {
-    /// Message type byte; see [`MsgType`].
+    /// Message type byte (the catalogue, `msg::MsgType`, names the known ones).
     pub msg_type: u8,
     /// Sender's sequence number (wrapping, one counter per direction).
     pub seq: u16,
     /// Payload, at most [`MAX_PAYLOAD`](super::MAX_PAYLOAD) bytes.
     pub payload: &'a [u8],
-}
-
-impl Frame<'_> {
-    /// The message type, if this build knows it.
-    pub fn kind(&self) -> Option<MsgType> {
-        MsgType::from_u8(self.msg_type)
-    }
 }
 
 /// Counters of one receiving direction of a link. All counters wrap at `u32::MAX`.

@@ -258,6 +258,59 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// A value with a fixed-size little-endian layout inside a payload: the building block of the
+/// message layouts (a message's field list is a sequence of `Field`s).
+pub trait Field: Sized {
+    /// Encoded size, in bytes.
+    const LEN: usize;
+    /// Appends the value.
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError>;
+    /// Reads a value; [`PayloadError::InvalidValue`] if the bytes are not one this type allows.
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError>;
+}
+
+/// `Field` for scalars through the matching `Writer::put_*` / `Reader::get_*` pair.
+macro_rules! scalar_field {
+    ($($t:ty: $put:ident, $get:ident;)+) => {$(
+        impl Field for $t {
+            const LEN: usize = core::mem::size_of::<$t>();
+            fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+                w.$put(*self)
+            }
+            fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+                r.$get()
+            }
+        }
+    )+};
+}
+
+scalar_field! {
+    u8: put_u8, get_u8;
+    i8: put_i8, get_i8;
+    u16: put_u16, get_u16;
+    i16: put_i16, get_i16;
+    u32: put_u32, get_u32;
+    i32: put_i32, get_i32;
+    u64: put_u64, get_u64;
+    f32: put_f32, get_f32;
+    f64: put_f64, get_f64;
+}
+
+/// Arrays travel element by element, in index order.
+impl<T: Field + Copy + Default, const N: usize> Field for [T; N] {
+    const LEN: usize = N * T::LEN;
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+        self.iter().try_for_each(|v| v.put(w))
+    }
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+        let mut a = [T::default(); N];
+        for v in &mut a {
+            *v = T::get(r)?;
+        }
+        Ok(a)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -32,7 +32,7 @@ use rotorid::RlsState;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid_link::msg::{
     self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
-    RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+    Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Reader, Writer};
 
