@@ -80,15 +80,18 @@
     )
 )]
 
+mod cobs_decode;
 mod frame;
 pub mod msg;
 mod payload;
+mod stats;
 
 pub use frame::{
     encode_frame, encode_frame_vec, EncodeError, Feed, Frame, FrameDecoder, FrameEncoder,
-    FrameError, LinkStats, SeqTracker,
+    FrameError,
 };
 pub use payload::{Field, PayloadError, Reader, Writer};
+pub use stats::{LinkStats, SeqTracker};
 
 /// Protocol version carried in byte 0 of every raw frame. Frames with another version and a
 /// valid CRC are rejected and counted as [`FrameError::UnknownVersion`].

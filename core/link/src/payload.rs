@@ -364,4 +364,21 @@ mod tests {
         assert_eq!(w.len(), 2);
         assert_eq!(w.into_written(), &[7, 0]);
     }
+
+    #[test]
+    fn fields_travel_in_order_little_endian() {
+        assert_eq!(<[u16; 3]>::LEN, 6);
+        assert_eq!(<[[f32; 2]; 2]>::LEN, 16);
+        let mut buf = [0u8; 8];
+        let mut w = Writer::new(&mut buf);
+        [0x0102u16, 0x0304, 0x0506].put(&mut w).unwrap();
+        0xABu8.put(&mut w).unwrap();
+        assert_eq!(w.written(), &[2, 1, 4, 3, 6, 5, 0xAB]);
+        // One byte left: a u16 array does not fit.
+        assert!([1u16, 2].put(&mut w).is_err());
+        let mut r = Reader::new(&buf[..7]);
+        assert_eq!(<[u16; 3]>::get(&mut r), Ok([0x0102, 0x0304, 0x0506]));
+        assert_eq!(u8::get(&mut r), Ok(0xAB));
+        assert!(u8::get(&mut r).is_err());
+    }
 }
