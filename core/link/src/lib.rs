@@ -51,7 +51,8 @@
 //! * [`Writer`] / [`Reader`] put and get little-endian scalars in payloads.
 //! * [`Field`] is a fixed-size value in a payload (scalars, arrays).
 //! * [`msg`] is the message catalogue above the framing: type codes and payload layouts
-//!   ([`msg::Payload`]). Framing (`frame`, `payload`) knows no message.
+//!   ([`msg::Payload`]). The framing modules (`frame`, `stats`, `cobs_decode`, `payload`)
+//!   import nothing from it: the arrow points from the catalogue to the framing only.
 //!
 //! # Why CRC-32/ISO-HDLC
 //!
