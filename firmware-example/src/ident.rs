@@ -28,7 +28,7 @@ use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainId
 use rotorid::{RlsState, RlsView};
 use rotorid_link::msg::{
     self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
-    RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+    Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Reader, Writer};
 

@@ -14,8 +14,8 @@ use rotorid::hover::HoverSample;
 use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid_link::msg::{
     self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, ModelView,
-    MsgType, Nack, ParamField, ParamsChunk, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
-    SweepStart,
+    MsgType, Nack, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode, SampleMsg,
+    SweepSample, SweepStart,
 };
 use rotorid_link::Writer;
 
