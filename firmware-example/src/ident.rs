@@ -22,13 +22,12 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::HoverSnapshot;
 use rotorid::hover::StateModel;
-use rotorid::rls::Rls;
 use rotorid::sweep::SweepSchedule;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid::{RlsState, RlsView};
 use rotorid_link::msg::{
-    self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
-    Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+    self, DataChunk, IdOutput, Ident, MsgType, NackReason, ParamField, ParamsChunk, Payload,
+    RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Reader, Writer};
 
@@ -328,26 +327,26 @@ impl Identification {
             Ident::Plain => self.plain_views(),
             _ => self.fuzzy_views(),
         }?;
-        Some(views.map(|v| v.theta))
+        Some(views.map(|v| v.parameters()))
     }
 
-    fn fuzzy_views(&self) -> Option<[ModelView<'_>; 4]> {
+    fn fuzzy_views(&self) -> Option<[RlsView<'_, f32>; 4]> {
         let f = self.fuzzy.as_ref().ok()?;
         Some([
-            view(f.velocity_model().ts().rls()),
-            view(f.pitch_model().ts().rls()),
-            view(f.yaw_model().ts().rls()),
-            view(f.roll_model().ts().rls()),
+            f.velocity_model().ts().rls().view(),
+            f.pitch_model().ts().rls().view(),
+            f.yaw_model().ts().rls().view(),
+            f.roll_model().ts().rls().view(),
         ])
     }
 
-    fn plain_views(&self) -> Option<[ModelView<'_>; 4]> {
+    fn plain_views(&self) -> Option<[RlsView<'_, f32>; 4]> {
         let p = self.plain.as_ref().ok()?;
         Some([
-            view(p.velocity_model().ts().rls()),
-            view(p.pitch_model().ts().rls()),
-            view(p.yaw_model().ts().rls()),
-            view(p.roll_model().ts().rls()),
+            p.velocity_model().ts().rls().view(),
+            p.pitch_model().ts().rls().view(),
+            p.yaw_model().ts().rls().view(),
+            p.roll_model().ts().rls().view(),
         ])
     }
 
@@ -582,15 +581,6 @@ impl Identification {
             out.reply(MsgType::SweepSample, &mut |w| m.write(w));
         }
         out.ack(seq, code);
-    }
-}
-
-fn view<const N: usize, const NP: usize>(rls: &Rls<f32, N, NP>) -> ModelView<'_> {
-    ModelView {
-        algorithm: rls.config().algorithm,
-        updates: rls.counters().updates,
-        theta: rls.parameters(),
-        factor: rls.packed_factor(),
     }
 }
 

@@ -13,9 +13,9 @@ use std::fmt;
 use rotorid::hover::HoverSample;
 use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid_link::msg::{
-    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, ModelView,
-    MsgType, Nack, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode, SampleMsg,
-    SweepSample, SweepStart,
+    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, MsgType, Nack,
+    ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
+    SweepStart,
 };
 use rotorid_link::Writer;
 
@@ -229,17 +229,8 @@ fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> Mod
             c.updates,
             c.windup_guards,
             c.numerical_skips,
-            u32::from(r.config().algorithm == rotorid::Algorithm::UdFactor),
+            u32::from(r.config().algorithm.code()),
         ],
-    }
-}
-
-fn view<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelView<'_> {
-    ModelView {
-        algorithm: r.config().algorithm,
-        updates: r.counters().updates,
-        theta: r.parameters(),
-        factor: r.packed_factor(),
     }
 }
 
@@ -274,19 +265,19 @@ impl Mirror {
             Ident::Plain => {
                 let p = &self.plain;
                 [
-                    view(p.velocity_model().ts().rls()),
-                    view(p.pitch_model().ts().rls()),
-                    view(p.yaw_model().ts().rls()),
-                    view(p.roll_model().ts().rls()),
+                    p.velocity_model().ts().rls().view(),
+                    p.pitch_model().ts().rls().view(),
+                    p.yaw_model().ts().rls().view(),
+                    p.roll_model().ts().rls().view(),
                 ]
             }
             _ => {
                 let f = &self.fuzzy;
                 [
-                    view(f.velocity_model().ts().rls()),
-                    view(f.pitch_model().ts().rls()),
-                    view(f.yaw_model().ts().rls()),
-                    view(f.roll_model().ts().rls()),
+                    f.velocity_model().ts().rls().view(),
+                    f.pitch_model().ts().rls().view(),
+                    f.yaw_model().ts().rls().view(),
+                    f.roll_model().ts().rls().view(),
                 ]
             }
         };

@@ -127,7 +127,7 @@ pub use ident::{
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{
-    read_rls_state, snapshot_crc, snapshot_len, snapshot_read, stream_crc, DataChunk, ModelView,
+    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, stream_crc, DataChunk,
     ParamField, ParamsChunk,
 };
 pub use sweep::{SweepSample, SweepStart};

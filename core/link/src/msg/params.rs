@@ -2,7 +2,7 @@
 
 use super::{Ident, MsgType, Payload};
 use crate::{Field, PayloadError, Reader, Writer};
-use rotorid::rls::{Algorithm, RlsState};
+use rotorid::rls::{Algorithm, RlsState, RlsView};
 
 wire_enum! {
     /// Which vector a [`ParamsChunk`] carries.
@@ -171,47 +171,35 @@ pub fn stream_crc(bytes: &[u8]) -> u32 {
     crate::CRC.checksum(bytes)
 }
 
-/// One model's learnt state as the export stream sees it (borrowed from an `Rls`).
-#[derive(Clone, Copy, Debug)]
-pub struct ModelView<'a> {
-    /// Covariance form.
-    pub algorithm: Algorithm,
-    /// Updates made.
-    pub updates: u32,
-    /// θ.
-    pub theta: &'a [f32],
-    /// Packed P or U-D factor.
-    pub factor: &'a [f32],
+/// Bytes of one estimator in the snapshot stream: algorithm u8, updates u32, θ, factor (f32
+/// each).
+pub fn model_len(model: &RlsView<'_, f32>) -> usize {
+    5 + 4 * (model.len() + model.packed_factor().len())
 }
 
-impl ModelView<'_> {
-    /// Bytes of this model in the stream: algorithm u8, updates u32, θ, factor (f32 each).
-    pub fn len(&self) -> usize {
-        5 + 4 * (self.theta.len() + self.factor.len())
-    }
-
-    /// Never true (the header is always there).
-    pub fn is_empty(&self) -> bool {
-        false
-    }
-
-    fn byte(&self, i: usize) -> u8 {
-        let word = |xs: &[f32], j: usize| {
-            xs.get(j / 4)
-                .and_then(|v| v.to_bits().to_le_bytes().get(j % 4).copied())
-                .unwrap_or(0)
-        };
-        match i {
-            0 => algorithm_code(self.algorithm),
-            1..=4 => self.updates.to_le_bytes().get(i - 1).copied().unwrap_or(0),
-            _ => {
-                let j = i - 5;
-                let t = 4 * self.theta.len();
-                if j < t {
-                    word(self.theta, j)
-                } else {
-                    word(self.factor, j - t)
-                }
+/// Byte `i` of one estimator's part of the snapshot stream (0 past its end).
+fn model_byte(model: &RlsView<'_, f32>, i: usize) -> u8 {
+    let word = |xs: &[f32], j: usize| {
+        xs.get(j / 4)
+            .and_then(|v| v.to_bits().to_le_bytes().get(j % 4).copied())
+            .unwrap_or(0)
+    };
+    match i {
+        0 => model.algorithm().code(),
+        1..=4 => model
+            .counters()
+            .updates
+            .to_le_bytes()
+            .get(i - 1)
+            .copied()
+            .unwrap_or(0),
+        _ => {
+            let j = i - 5;
+            let t = 4 * model.len();
+            if j < t {
+                word(model.parameters(), j)
+            } else {
+                word(model.packed_factor(), j - t)
             }
         }
     }
@@ -221,41 +209,30 @@ impl ModelView<'_> {
 impl Field for Algorithm {
     const LEN: usize = 1;
     fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
-        w.put_u8(algorithm_code(*self))
+        w.put_u8(self.code())
     }
     fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
-        match r.get_u8()? {
-            0 => Ok(Algorithm::Covariance),
-            1 => Ok(Algorithm::UdFactor),
-            _ => Err(PayloadError::InvalidValue),
-        }
-    }
-}
-
-fn algorithm_code(a: Algorithm) -> u8 {
-    match a {
-        Algorithm::Covariance => 0,
-        Algorithm::UdFactor => 1,
+        Algorithm::from_code(r.get_u8()?).ok_or(PayloadError::InvalidValue)
     }
 }
 
 /// Length of the snapshot stream of `models`.
-pub fn snapshot_len(models: &[ModelView<'_>]) -> usize {
-    models.iter().map(ModelView::len).sum()
+pub fn snapshot_len(models: &[RlsView<'_, f32>]) -> usize {
+    models.iter().map(model_len).sum()
 }
 
 /// Copies the snapshot stream of `models` (each model's bytes, in order) from `offset` into
 /// `out`; returns the bytes written (fewer than `out.len()` at the end of the stream).
-pub fn snapshot_read(models: &[ModelView<'_>], offset: usize, out: &mut [u8]) -> usize {
+pub fn snapshot_read(models: &[RlsView<'_, f32>], offset: usize, out: &mut [u8]) -> usize {
     let mut start = 0usize;
     let mut n = 0usize;
     for m in models {
-        let len = m.len();
+        let len = model_len(m);
         while n < out.len() && offset + n < start + len {
             let pos = offset + n;
             if pos >= start {
                 if let Some(o) = out.get_mut(n) {
-                    *o = m.byte(pos - start);
+                    *o = model_byte(m, pos - start);
                 }
                 n += 1;
             } else {
@@ -268,7 +245,7 @@ pub fn snapshot_read(models: &[ModelView<'_>], offset: usize, out: &mut [u8]) ->
 }
 
 /// CRC-32 of the snapshot stream of `models` (computed piecewise, without a stream buffer).
-pub fn snapshot_crc(models: &[ModelView<'_>]) -> u32 {
+pub fn snapshot_crc(models: &[RlsView<'_, f32>]) -> u32 {
     let mut digest = crate::CRC.digest();
     let mut buf = [0u8; 64];
     let mut offset = 0;
@@ -360,24 +337,18 @@ mod tests {
 
     #[test]
     fn snapshot_stream_reads_back_exactly() {
-        let theta = [1.0f32, -2.0];
-        let factor = [3.0f32, 0.5, 4.0];
-        let views = [
-            ModelView {
-                algorithm: Algorithm::UdFactor,
-                updates: 77,
-                theta: &theta,
-                factor: &factor,
-            },
-            ModelView {
-                algorithm: Algorithm::Covariance,
-                updates: 1,
-                theta: &factor[..2],
-                factor: &theta[..1],
-            },
-        ];
+        use rotorid::{Rls, RlsConfig};
+        let mut a = Rls::<f32, 2, 3>::new(RlsConfig::default()).unwrap();
+        for k in 0..77 {
+            let x = k as f32;
+            a.update(&[1.0, 0.1 * x], 0.5 - 0.2 * x).unwrap();
+        }
+        let mut b = Rls::<f32, 1, 1>::new(RlsConfig::paper(10.0)).unwrap();
+        b.update(&[2.0], 1.0).unwrap();
+        let (theta, factor) = (*a.parameters(), *a.packed_factor());
+        let views = [a.view(), b.view()];
         let len = snapshot_len(&views);
-        assert_eq!(len, 25 + 17);
+        assert_eq!(len, 25 + 13);
         // Read in odd-sized pieces; must equal one big read.
         let mut whole = vec![0u8; len + 5];
         assert_eq!(snapshot_read(&views, 0, &mut whole), len);
@@ -401,7 +372,7 @@ mod tests {
             (a.algorithm, a.updates, a.theta, a.factor),
             (Algorithm::UdFactor, 77, theta, factor)
         );
-        let b = read_rls_state::<2, 1>(&mut r).unwrap();
+        let b = read_rls_state::<1, 1>(&mut r).unwrap();
         assert_eq!((b.algorithm, b.updates), (Algorithm::Covariance, 1));
         assert_eq!(r.finish(), Ok(()));
         assert!(read_rls_state::<2, 3>(&mut Reader::new(&whole[..20])).is_err());
