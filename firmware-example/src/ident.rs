@@ -21,7 +21,7 @@ use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::HoverSnapshot;
-use rotorid::hover::StateModel;
+use rotorid::hover::{HoverModels, StateModel};
 use rotorid::sweep::SweepSchedule;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid::{RlsState, RlsView};
@@ -31,8 +31,11 @@ use rotorid_link::msg::{
 };
 use rotorid_link::{Reader, Writer};
 
-/// Bytes of the plain identifier's snapshot stream: 4 models × (5 + 4 × (2 + 3)).
-pub const PLAIN_SNAPSHOT_LEN: usize = 4 * (5 + 4 * (2 + 3));
+/// Bytes of the plain identifier's snapshot stream (its four models' states).
+pub const PLAIN_SNAPSHOT_LEN: usize = stream_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
+    + stream_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
+    + stream_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
+    + stream_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
 
 /// Staging area of an import into the plain identifier.
 struct ImportStage {
@@ -56,25 +59,41 @@ pub struct Identification {
     fuzzy_stage: Option<FuzzyImport>,
 }
 
-/// Bytes of the fuzzy identifier's snapshot stream: 4 models × (5 + 4 × (N + NP)).
-pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
-const MODEL_N: [usize; 4] = [54, 36, 18, 18];
+/// The state types of the two identifiers' models, named through the identifiers' types
+/// (their sizes are written nowhere else).
+type StateOf<M> = <M as StateModel<f32>>::State;
+type FuzzyV = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Velocity>;
+type FuzzyQ = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Pitch>;
+type FuzzyR = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Yaw>;
+type FuzzyP = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Roll>;
+type PlainV = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Velocity>;
+type PlainQ = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Pitch>;
+type PlainR = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Yaw>;
+type PlainP = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Roll>;
+
+/// Bytes of one model in the snapshot stream: algorithm u8, updates u32, θ, factor (f32 each).
+const fn stream_len(parameters: usize, factor: usize) -> usize {
+    5 + 4 * (parameters + factor)
+}
+
 const MODEL_LEN: [usize; 4] = [
-    5 + 4 * (54 + 1485),
-    5 + 4 * (36 + 666),
-    5 + 4 * (18 + 171),
-    5 + 4 * (18 + 171),
+    stream_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
+    stream_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
+    stream_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
+    stream_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
 ];
+/// Bytes of the fuzzy identifier's snapshot stream.
+pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
 
 /// The model of a fuzzy import being received.
 // Sized by the velocity model on purpose: this is the static staging area (no allocator),
 // one model at a time.
 #[allow(clippy::large_enum_variant)]
 enum FuzzyModel {
-    V(RlsState<f32, 54, 1485>),
-    Q(RlsState<f32, 36, 666>),
-    R(RlsState<f32, 18, 171>),
-    P(RlsState<f32, 18, 171>),
+    V(FuzzyV),
+    Q(FuzzyQ),
+    R(FuzzyR),
+    P(FuzzyP),
 }
 
 /// A fuzzy import in progress (one model staged at a time).
@@ -549,7 +568,7 @@ impl Identification {
         if st.received < st.total as usize {
             return Ok(());
         }
-        let done = st.model == MODEL_N.len();
+        let done = st.model == MODEL_LEN.len();
         let crc_ok = st.digest.clone().finalize() == st.crc;
         if done && crc_ok {
             // Complete: nothing to undo any more.
@@ -584,12 +603,7 @@ impl Identification {
     }
 }
 
-type PlainSnapshot = HoverSnapshot<
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
->;
+type PlainSnapshot = HoverSnapshot<PlainV, PlainQ, PlainR, PlainP>;
 
 fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
     let mut r = Reader::new(bytes);

@@ -49,6 +49,27 @@ impl ModelId {
     }
 }
 
+/// The four model types of a [`HoverIdentifier`], by name: for code that must name one
+/// model's state type, such as a firmware that stages an import one model at a time
+/// (`<<I as HoverModels>::Velocity as StateModel<f32>>::State`) instead of restating its sizes.
+pub trait HoverModels {
+    /// The translational model.
+    type Velocity;
+    /// The q̂ model.
+    type Pitch;
+    /// The r̂ model.
+    type Yaw;
+    /// The p̂ model.
+    type Roll;
+}
+
+impl<T, V, Q, R, P> HoverModels for HoverIdentifier<T, V, Q, R, P> {
+    type Velocity = V;
+    type Pitch = Q;
+    type Yaw = R;
+    type Roll = P;
+}
+
 /// Everything a [`HoverIdentifier`] has learnt (warm start across flights).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct HoverSnapshot<V, Q, R, P> {

@@ -23,7 +23,7 @@ pub mod table3;
 mod variants;
 
 pub use config::{HoverConfig, RegressorScaling};
-pub use identifier::{HoverIdentifier, HoverSnapshot, ModelId, StepOutput};
+pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
 pub use models::{
     right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
     VelocityModel, VelocityStructure,

@@ -184,6 +184,13 @@ pub struct RlsState<T, const N: usize, const NP: usize> {
     pub updates: u32,
 }
 
+impl<T, const N: usize, const NP: usize> RlsState<T, N, NP> {
+    /// Parameters N of this state's estimator.
+    pub const PARAMETERS: usize = N;
+    /// Packed covariance (or U-D factor) entries, N(N+1)/2.
+    pub const FACTOR_LEN: usize = NP;
+}
+
 /// Counters of an [`Rls`]. (The last prior innovation is what
 /// [`update`](Rls::update) returns; it is not kept.)
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
