@@ -37,6 +37,15 @@ pub const PLAIN_SNAPSHOT_LEN: usize = stream_len(PlainV::PARAMETERS, PlainV::FAC
     + stream_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
     + stream_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
 
+/// Why a `Reset` was not carried out.
+#[derive(Clone, Copy, Debug, PartialEq, defmt::Format)]
+pub enum ResetError {
+    /// An identifier failed to build at start-up (not expected: their settings are constants).
+    IdentifierMissing,
+    /// The core refused the new settings.
+    Core(Error),
+}
+
 /// Staging area of an import into the plain identifier.
 struct ImportStage {
     buf: [u8; PLAIN_SNAPSHOT_LEN],
@@ -320,11 +329,11 @@ impl Identification {
     /// `Reset`: both identifiers back to θ = 0, P = αI in `form`. A new form is set in place
     /// ([`rotorid::HoverIdentifier::reconfigure`]): nothing is rebuilt or moved, so a Reset
     /// costs no stack beyond the call itself.
-    pub fn reset(&mut self, form: RlsForm) -> Result<(), Error> {
+    pub fn reset(&mut self, form: RlsForm) -> Result<(), ResetError> {
         self.stage = None;
         self.fuzzy_stage = None;
         let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) else {
-            return Err(Error::Numerical);
+            return Err(ResetError::IdentifierMissing);
         };
         if form == self.form {
             f.reset();
@@ -333,8 +342,8 @@ impl Identification {
         }
         let c = config(form);
         // Both validate the same settings: the second cannot fail after the first passed.
-        f.reconfigure(c)?;
-        p.reconfigure(c)?;
+        f.reconfigure(c).map_err(ResetError::Core)?;
+        p.reconfigure(c).map_err(ResetError::Core)?;
         self.form = form;
         Ok(())
     }
