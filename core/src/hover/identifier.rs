@@ -63,40 +63,41 @@ pub trait HoverModels {
     type Roll;
 }
 
-impl<T, V, Q, R, P> HoverModels for HoverIdentifier<T, V, Q, R, P> {
-    type Velocity = V;
-    type Pitch = Q;
-    type Yaw = R;
-    type Roll = P;
+impl<T, Vm, Qm, Rm, Pm> HoverModels for HoverIdentifier<T, Vm, Qm, Rm, Pm> {
+    type Velocity = Vm;
+    type Pitch = Qm;
+    type Yaw = Rm;
+    type Roll = Pm;
 }
 
 /// Everything a [`HoverIdentifier`] has learnt (warm start across flights).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct HoverSnapshot<V, Q, R, P> {
+pub struct HoverSnapshot<Vs, Qs, Rs, Ps> {
     /// Translational model.
-    pub velocity: V,
+    pub velocity: Vs,
     /// q̂ model.
-    pub pitch: Q,
+    pub pitch: Qs,
     /// r̂ model.
-    pub yaw: R,
+    pub yaw: Rs,
     /// p̂ model.
-    pub roll: P,
+    pub roll: Ps,
 }
 
 /// Online identifier of the hover dynamics (paper Section 5): takes one sample per step,
 /// learns all four models from the previous sample to this one, and predicts the next.
 ///
-/// `V` is the translational model, `Q`, `R`, `P` the q̂, r̂, p̂ models. The paper's two
+/// `Vm` is the translational model, `Qm`, `Rm`, `Pm` the q̂, r̂, p̂ models (`m` for model: `R`
+/// and `P` elsewhere count rules and packed entries). The paper's two
 /// configurations are the aliases [`PaperFuzzyIdentifier`](super::PaperFuzzyIdentifier) and [`PaperPlainIdentifier`](super::PaperPlainIdentifier); since
 /// they share this API, Table 4's comparison is a change of type.
 ///
 /// Every call that returns `Err` leaves the identifier exactly as it was.
 #[derive(Clone, Debug, PartialEq)]
-pub struct HoverIdentifier<T, V, Q, R, P> {
-    pub(super) velocity: V,
-    pub(super) pitch: Q,
-    pub(super) yaw: R,
-    pub(super) roll: P,
+pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
+    pub(super) velocity: Vm,
+    pub(super) pitch: Qm,
+    pub(super) yaw: Rm,
+    pub(super) roll: Pm,
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
     pub(super) timing: Timing,
@@ -148,22 +149,22 @@ impl Timing {
     }
 }
 
-impl<T, V, Q, R, P> HoverIdentifier<T, V, Q, R, P>
+impl<T, Vm, Qm, Rm, Pm> HoverIdentifier<T, Vm, Qm, Rm, Pm>
 where
     T: Real,
-    V: StateModel<T>,
-    Q: StateModel<T>,
-    R: StateModel<T>,
-    P: StateModel<T>,
+    Vm: StateModel<T>,
+    Qm: StateModel<T>,
+    Rm: StateModel<T>,
+    Pm: StateModel<T>,
 {
     /// An identifier from four models (translational, q̂, r̂, p̂). `config` gives the sample
     /// period and its tolerance; the models keep the RLS settings and scales they were built
     /// with.
     pub fn new(
-        velocity: V,
-        pitch: Q,
-        yaw: R,
-        roll: P,
+        velocity: Vm,
+        pitch: Qm,
+        yaw: Rm,
+        roll: Pm,
         config: HoverConfig<T>,
     ) -> Result<Self, Error> {
         config.validate()?;
@@ -191,22 +192,22 @@ where
     }
 
     /// The translational model.
-    pub fn velocity_model(&self) -> &V {
+    pub fn velocity_model(&self) -> &Vm {
         &self.velocity
     }
 
     /// The q̂ model.
-    pub fn pitch_model(&self) -> &Q {
+    pub fn pitch_model(&self) -> &Qm {
         &self.pitch
     }
 
     /// The r̂ model.
-    pub fn yaw_model(&self) -> &R {
+    pub fn yaw_model(&self) -> &Rm {
         &self.yaw
     }
 
     /// The p̂ model.
-    pub fn roll_model(&self) -> &P {
+    pub fn roll_model(&self) -> &Pm {
         &self.roll
     }
 
@@ -364,7 +365,7 @@ where
     }
 
     /// Everything learnt, for a warm start on the next flight.
-    pub fn export(&self) -> HoverSnapshot<V::State, Q::State, R::State, P::State> {
+    pub fn export(&self) -> HoverSnapshot<Vm::State, Qm::State, Rm::State, Pm::State> {
         HoverSnapshot {
             velocity: self.velocity.export(),
             pitch: self.pitch.export(),
@@ -377,7 +378,7 @@ where
     /// anchors). All four states are checked before any is written; on `Err` nothing changed.
     pub fn import(
         &mut self,
-        snapshot: &HoverSnapshot<V::State, Q::State, R::State, P::State>,
+        snapshot: &HoverSnapshot<Vm::State, Qm::State, Rm::State, Pm::State>,
     ) -> Result<(), Error> {
         self.velocity.check_import(&snapshot.velocity)?;
         self.pitch.check_import(&snapshot.pitch)?;
@@ -407,22 +408,22 @@ where
     /// Mutable access to the translational model, for importing one model at a time (a
     /// firmware can stage one model's state instead of a whole snapshot). Importing a model
     /// does not restart the sample chain.
-    pub fn velocity_model_mut(&mut self) -> &mut V {
+    pub fn velocity_model_mut(&mut self) -> &mut Vm {
         &mut self.velocity
     }
 
     /// Mutable access to the q̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn pitch_model_mut(&mut self) -> &mut Q {
+    pub fn pitch_model_mut(&mut self) -> &mut Qm {
         &mut self.pitch
     }
 
     /// Mutable access to the r̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn yaw_model_mut(&mut self) -> &mut R {
+    pub fn yaw_model_mut(&mut self) -> &mut Rm {
         &mut self.yaw
     }
 
     /// Mutable access to the p̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn roll_model_mut(&mut self) -> &mut P {
+    pub fn roll_model_mut(&mut self) -> &mut Pm {
         &mut self.roll
     }
 
