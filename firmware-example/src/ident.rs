@@ -656,14 +656,7 @@ fn send_model_params(out: &mut dyn Reply, ident: Ident, model: u8, rls: &RlsView
             out.reply(MsgType::Params, &mut |w| c.write(w));
         }
     }
-    let counters = rls.counters();
-    let summary = [
-        rls.trace().to_bits(),
-        counters.updates,
-        counters.windup_guards,
-        counters.numerical_skips,
-        u32::from(rls.algorithm().code()),
-    ];
+    let summary = msg::summary_words(rls);
     let mut words = [0u8; 4 * ParamsChunk::SUMMARY_WORDS];
     for (dst, v) in words.chunks_exact_mut(4).zip(summary) {
         dst.copy_from_slice(&v.to_le_bytes());

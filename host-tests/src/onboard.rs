@@ -220,17 +220,10 @@ pub struct ModelParams {
 pub type Params = [ModelParams; 4];
 
 fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelParams {
-    let c = r.counters();
     ModelParams {
         theta: r.parameters().to_vec(),
         diagonal: r.covariance_diagonal().to_vec(),
-        summary: [
-            r.trace().to_bits(),
-            c.updates,
-            c.windup_guards,
-            c.numerical_skips,
-            u32::from(r.config().algorithm.code()),
-        ],
+        summary: msg::summary_words(&r.view()),
     }
 }
 

@@ -127,7 +127,8 @@ pub use ident::{
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{
-    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, stream_crc, DataChunk,
+    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, stream_crc, summary_words,
+    DataChunk,
     ParamField, ParamsChunk,
 };
 pub use sweep::{SweepSample, SweepStart};

@@ -171,6 +171,19 @@ pub fn stream_crc(bytes: &[u8]) -> u32 {
     crate::CRC.checksum(bytes)
 }
 
+/// The `Summary` words of one estimator in `Params` ([`ParamField::Summary`]): trace(P) as
+/// f32 bits, updates, windup guards, numerical skips, and the algorithm's code.
+pub fn summary_words(model: &RlsView<'_, f32>) -> [u32; ParamsChunk::SUMMARY_WORDS] {
+    let c = model.counters();
+    [
+        model.trace().to_bits(),
+        c.updates,
+        c.windup_guards,
+        c.numerical_skips,
+        u32::from(model.algorithm().code()),
+    ]
+}
+
 /// Bytes of one estimator in the snapshot stream: algorithm u8, updates u32, θ, factor (f32
 /// each).
 pub fn model_len(model: &RlsView<'_, f32>) -> usize {
