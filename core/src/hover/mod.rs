@@ -28,7 +28,7 @@ pub use models::{
     right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
     VelocityModel, VelocityStructure,
 };
-pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
+pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,

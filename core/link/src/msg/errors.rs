@@ -4,7 +4,7 @@
 //! index and three u64 arguments. Only the canonical encoding (unused fields zero) reads back.
 
 use crate::{Field, PayloadError, Reader, Writer};
-use rotorid::error::{ConfigError, Error, Quantity};
+use rotorid::error::{ConfigError, Error, Quantity, SampleField};
 
 /// Bytes of an encoded [`Error`] (see [`write_error`]).
 pub const ERROR_LEN: usize = 28;
@@ -16,13 +16,13 @@ pub const UNKNOWN_CODE: u8 = 255;
 
 fn quantity_code(q: Quantity) -> (u8, u16) {
     match q {
-        Quantity::Roll => (1, 0),
-        Quantity::Pitch => (2, 0),
-        Quantity::Yaw => (3, 0),
-        Quantity::Velocity(i) => (4, u16::from(i)),
-        Quantity::Rate(i) => (5, u16::from(i)),
-        Quantity::Control(i) => (6, u16::from(i)),
-        Quantity::Time => (7, 0),
+        Quantity::Sample(SampleField::Roll) => (1, 0),
+        Quantity::Sample(SampleField::Pitch) => (2, 0),
+        Quantity::Sample(SampleField::Yaw) => (3, 0),
+        Quantity::Sample(SampleField::Velocity(i)) => (4, u16::from(i)),
+        Quantity::Sample(SampleField::Rate(i)) => (5, u16::from(i)),
+        Quantity::Sample(SampleField::Control(i)) => (6, u16::from(i)),
+        Quantity::Sample(SampleField::Time) => (7, 0),
         Quantity::Premise(i) => (8, u16::from(i)),
         Quantity::Regressor(i) => (9, i),
         Quantity::Target(i) => (10, u16::from(i)),
@@ -37,13 +37,13 @@ fn quantity_code(q: Quantity) -> (u8, u16) {
 fn quantity_from(code: u8, index: u16) -> Option<Quantity> {
     let small = u8::try_from(index).ok();
     Some(match code {
-        1 => Quantity::Roll,
-        2 => Quantity::Pitch,
-        3 => Quantity::Yaw,
-        4 => Quantity::Velocity(small?),
-        5 => Quantity::Rate(small?),
-        6 => Quantity::Control(small?),
-        7 => Quantity::Time,
+        1 => SampleField::Roll.into(),
+        2 => SampleField::Pitch.into(),
+        3 => SampleField::Yaw.into(),
+        4 => SampleField::Velocity(small?).into(),
+        5 => SampleField::Rate(small?).into(),
+        6 => SampleField::Control(small?).into(),
+        7 => SampleField::Time.into(),
         8 => Quantity::Premise(small?),
         9 => Quantity::Regressor(index),
         10 => Quantity::Target(small?),
@@ -208,13 +208,13 @@ mod tests {
 
     fn all_errors() -> Vec<Option<Error>> {
         let qs = [
-            Quantity::Roll,
-            Quantity::Pitch,
-            Quantity::Yaw,
-            Quantity::Velocity(2),
-            Quantity::Rate(1),
-            Quantity::Control(3),
-            Quantity::Time,
+            Quantity::Sample(SampleField::Roll),
+            Quantity::Sample(SampleField::Pitch),
+            Quantity::Sample(SampleField::Yaw),
+            Quantity::Sample(SampleField::Velocity(2)),
+            Quantity::Sample(SampleField::Rate(1)),
+            Quantity::Sample(SampleField::Control(3)),
+            Quantity::Sample(SampleField::Time),
             Quantity::Premise(2),
             Quantity::Regressor(1484),
             Quantity::Target(2),

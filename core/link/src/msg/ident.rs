@@ -270,7 +270,10 @@ mod tests {
                 error: None,
                 ticks: 1234,
             },
-            plain: IdOutput::rejected(Error::NonFinite(Quantity::Rate(0)), 7),
+            plain: IdOutput::rejected(
+                Error::NonFinite(Quantity::Sample(rotorid::hover::SampleField::Rate(0))),
+                7,
+            ),
         };
         let b = roundtrip(&e);
         assert_eq!(b.len(), 171);
