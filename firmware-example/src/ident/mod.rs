@@ -20,22 +20,19 @@
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
-use rotorid::hover::HoverSnapshot;
-use rotorid::hover::{HoverModels, StateModel};
 use rotorid::sweep::SweepSchedule;
+use rotorid::RlsView;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
-use rotorid::{RlsState, RlsView};
 use rotorid_link::msg::{
     self, DataChunk, IdOutput, Ident, MsgType, NackReason, ParamField, ParamsChunk, Payload,
     RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
-use rotorid_link::{Reader, Writer};
+use rotorid_link::Writer;
 
-/// Bytes of the plain identifier's snapshot stream (its four models' states).
-pub const PLAIN_SNAPSHOT_LEN: usize = stream_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
-    + stream_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
-    + stream_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
-    + stream_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
+mod import;
+
+use import::{FuzzyImport, ImportStage};
+pub use import::{FUZZY_SNAPSHOT_LEN, PLAIN_SNAPSHOT_LEN};
 
 /// Why a `Reset` was not carried out.
 #[derive(Clone, Copy, Debug, PartialEq, defmt::Format)]
@@ -44,14 +41,6 @@ pub enum ResetError {
     IdentifierMissing,
     /// The core refused the new settings.
     Core(Error),
-}
-
-/// Staging area of an import into the plain identifier.
-struct ImportStage {
-    buf: [u8; PLAIN_SNAPSHOT_LEN],
-    received: usize,
-    total: u32,
-    crc: u32,
 }
 
 /// Everything the identification messages act on.
@@ -66,124 +55,6 @@ pub struct Identification {
     form: RlsForm,
     stage: Option<ImportStage>,
     fuzzy_stage: Option<FuzzyImport>,
-}
-
-/// The state types of the two identifiers' models, named through the identifiers' types
-/// (their sizes are written nowhere else).
-type StateOf<M> = <M as StateModel<f32>>::State;
-type FuzzyV = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Velocity>;
-type FuzzyQ = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Pitch>;
-type FuzzyR = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Yaw>;
-type FuzzyP = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Roll>;
-type PlainV = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Velocity>;
-type PlainQ = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Pitch>;
-type PlainR = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Yaw>;
-type PlainP = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Roll>;
-
-/// Bytes of one model in the snapshot stream: algorithm u8, updates u32, θ, factor (f32 each).
-const fn stream_len(parameters: usize, factor: usize) -> usize {
-    5 + 4 * (parameters + factor)
-}
-
-const MODEL_LEN: [usize; 4] = [
-    stream_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
-    stream_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
-    stream_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
-    stream_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
-];
-/// Bytes of the fuzzy identifier's snapshot stream.
-pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
-
-/// The model of a fuzzy import being received.
-// Sized by the velocity model on purpose: this is the static staging area (no allocator),
-// one model at a time.
-#[allow(clippy::large_enum_variant)]
-enum FuzzyModel {
-    V(FuzzyV),
-    Q(FuzzyQ),
-    R(FuzzyR),
-    P(FuzzyP),
-}
-
-/// A fuzzy import in progress (one model staged at a time).
-struct FuzzyImport {
-    model: usize,
-    /// Bytes of the current model received.
-    pos: usize,
-    word: [u8; 4],
-    state: FuzzyModel,
-    received: usize,
-    total: u32,
-    crc: u32,
-    digest: crc::Digest<'static, u32>,
-    /// Whether a model has been written into the live identifier.
-    touched: bool,
-}
-
-static CRC32: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
-
-fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
-    RlsState {
-        algorithm: rotorid::Algorithm::UdFactor,
-        theta: [0.0; N],
-        factor: [0.0; NP],
-        updates: 0,
-    }
-}
-
-/// Stores byte `pos` of one model's stream (algorithm u8, updates u32, θ, factor as f32).
-/// Not generic: one copy serves all four model sizes.
-fn store_state_byte(
-    (algorithm, updates, theta, factor): (
-        &mut rotorid::Algorithm,
-        &mut u32,
-        &mut [f32],
-        &mut [f32],
-    ),
-    pos: usize,
-    b: u8,
-    word: &mut [u8; 4],
-) -> bool {
-    match pos {
-        0 => {
-            *algorithm = match rotorid::Algorithm::from_code(b) {
-                Some(a) => a,
-                None => return false,
-            };
-        }
-        1..=4 => {
-            let shift = 8 * (pos - 1);
-            *updates = (*updates & !(0xff << shift)) | (u32::from(b) << shift);
-        }
-        _ => {
-            let k = (pos - 5) % 4;
-            if let Some(w) = word.get_mut(k) {
-                *w = b;
-            }
-            if k == 3 {
-                let v = f32::from_le_bytes(*word);
-                let i = (pos - 5) / 4;
-                let n = theta.len();
-                if let Some(t) = theta.get_mut(i) {
-                    *t = v;
-                } else if let Some(f) = factor.get_mut(i - n) {
-                    *f = v;
-                }
-            }
-        }
-    }
-    true
-}
-
-fn parts<const N: usize, const NP: usize>(
-    s: &mut RlsState<f32, N, NP>,
-) -> (&mut rotorid::Algorithm, &mut u32, &mut [f32], &mut [f32]) {
-    (
-        &mut s.algorithm,
-        &mut s.updates,
-        &mut s.theta,
-        &mut s.factor,
-    )
 }
 
 /// `paper_fuzzy(c)` written straight into `dst` (the call's return slot is `dst`).
@@ -422,172 +293,6 @@ impl Identification {
         }
     }
 
-    /// `ImportChunk`: stages chunks in order; the last one is CRC-checked and imported.
-    pub fn import_chunk(&mut self, seq: u16, c: &DataChunk<'_>, out: &mut dyn Reply) {
-        let code = MsgType::ImportChunk.code();
-        if c.ident != Ident::Plain {
-            match self.fuzzy_chunk(c) {
-                Ok(()) => out.ack(seq, code),
-                Err(reason) => {
-                    self.abort_fuzzy_import();
-                    out.nack(seq, code, reason);
-                }
-            }
-            return;
-        }
-        self.abort_fuzzy_import();
-        if c.offset == 0 {
-            if c.total as usize != PLAIN_SNAPSHOT_LEN {
-                self.stage = None;
-                out.nack(seq, code, NackReason::BadPayload);
-                return;
-            }
-            self.stage = Some(ImportStage {
-                buf: [0; PLAIN_SNAPSHOT_LEN],
-                received: 0,
-                total: c.total,
-                crc: c.crc,
-            });
-        }
-        let Some(st) = self.stage.as_mut() else {
-            out.nack(seq, code, NackReason::BadPayload);
-            return;
-        };
-        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
-        let end = st.received + c.data.len();
-        let dst = st.buf.get_mut(st.received..end);
-        match (in_order, dst) {
-            (true, Some(dst)) => {
-                dst.copy_from_slice(c.data);
-                st.received = end;
-            }
-            _ => {
-                self.stage = None;
-                out.nack(seq, code, NackReason::BadPayload);
-                return;
-            }
-        }
-        if st.received < st.total as usize {
-            out.ack(seq, code);
-            return;
-        }
-        let result = if msg::stream_crc(&st.buf) != st.crc {
-            Err(NackReason::BadPayload)
-        } else {
-            parse_plain(&st.buf).ok_or(NackReason::BadPayload)
-        };
-        self.stage = None;
-        let plain = &mut self.plain;
-        match result.and_then(|snap| {
-            plain
-                .as_mut()
-                .map_err(|e| *e)
-                .and_then(|p| p.import(&snap))
-                .map_err(|e| {
-                    defmt::warn!("import refused by the core: {}", e);
-                    NackReason::Refused
-                })
-        }) {
-            Ok(()) => out.ack(seq, code),
-            Err(reason) => out.nack(seq, code, reason),
-        }
-    }
-
-    /// Drops a fuzzy import in progress; if it had already written a model, the fuzzy
-    /// identifier is reset (never a mix of old and new models).
-    fn abort_fuzzy_import(&mut self) {
-        if let Some(st) = self.fuzzy_stage.take() {
-            if st.touched {
-                if let Ok(f) = &mut self.fuzzy {
-                    f.reset();
-                }
-            }
-        }
-    }
-
-    /// One chunk of a fuzzy import. `Ok` = acknowledge (the last chunk: all imported).
-    fn fuzzy_chunk(&mut self, c: &DataChunk<'_>) -> Result<(), NackReason> {
-        if c.offset == 0 {
-            self.abort_fuzzy_import();
-            if c.total as usize != FUZZY_SNAPSHOT_LEN {
-                return Err(NackReason::BadPayload);
-            }
-            self.fuzzy_stage = Some(FuzzyImport {
-                model: 0,
-                pos: 0,
-                word: [0; 4],
-                state: FuzzyModel::V(blank()),
-                received: 0,
-                total: c.total,
-                crc: c.crc,
-                digest: CRC32.digest(),
-                touched: false,
-            });
-        }
-        let Some(st) = self.fuzzy_stage.as_mut() else {
-            return Err(NackReason::BadPayload);
-        };
-        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
-        if !in_order || st.received + c.data.len() > st.total as usize {
-            return Err(NackReason::BadPayload);
-        }
-        st.digest.update(c.data);
-        st.received += c.data.len();
-        let Ok(f) = &mut self.fuzzy else {
-            return Err(NackReason::Refused);
-        };
-        for &b in c.data {
-            let target = match &mut st.state {
-                FuzzyModel::V(s) => parts(s),
-                FuzzyModel::Q(s) => parts(s),
-                FuzzyModel::R(s) | FuzzyModel::P(s) => parts(s),
-            };
-            let ok = store_state_byte(target, st.pos, b, &mut st.word);
-            if !ok {
-                return Err(NackReason::BadPayload);
-            }
-            st.pos += 1;
-            if st.pos < MODEL_LEN.get(st.model).copied().unwrap_or(0) {
-                continue;
-            }
-            // A whole model: check and import it, then stage the next.
-            if !st.touched {
-                f.end_chain();
-                st.touched = true;
-            }
-            let r = match &st.state {
-                FuzzyModel::V(s) => f.velocity_model_mut().import(s),
-                FuzzyModel::Q(s) => f.pitch_model_mut().import(s),
-                FuzzyModel::R(s) => f.yaw_model_mut().import(s),
-                FuzzyModel::P(s) => f.roll_model_mut().import(s),
-            };
-            if let Err(e) = r {
-                defmt::warn!("import refused by the core: {}", e);
-                return Err(NackReason::Refused);
-            }
-            st.model += 1;
-            st.pos = 0;
-            match st.model {
-                1 => st.state = FuzzyModel::Q(blank()),
-                2 => st.state = FuzzyModel::R(blank()),
-                3 => st.state = FuzzyModel::P(blank()),
-                _ => {}
-            }
-        }
-        if st.received < st.total as usize {
-            return Ok(());
-        }
-        let done = st.model == MODEL_LEN.len();
-        let crc_ok = st.digest.clone().finalize() == st.crc;
-        if done && crc_ok {
-            // Complete: nothing to undo any more.
-            self.fuzzy_stage = None;
-            Ok(())
-        } else {
-            Err(NackReason::BadPayload)
-        }
-    }
-
     /// `SweepStart`: streams the requested part of Table 2's schedule, then acknowledges.
     pub fn sweep(&self, seq: u16, s: &SweepStart, out: &mut dyn Reply) {
         let code = MsgType::SweepStart.code();
@@ -610,23 +315,6 @@ impl Identification {
         }
         out.ack(seq, code);
     }
-}
-
-type PlainSnapshot = HoverSnapshot<PlainV, PlainQ, PlainR, PlainP>;
-
-fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
-    let mut r = Reader::new(bytes);
-    let velocity = msg::read_rls_state(&mut r).ok()?;
-    let pitch = msg::read_rls_state(&mut r).ok()?;
-    let yaw = msg::read_rls_state(&mut r).ok()?;
-    let roll = msg::read_rls_state(&mut r).ok()?;
-    r.finish().ok()?;
-    Some(HoverSnapshot {
-        velocity,
-        pitch,
-        yaw,
-        roll,
-    })
 }
 
 /// Sends one estimator's θ, diag(P) and summary as `Params` chunks. Size-erased (an
