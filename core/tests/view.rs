@@ -139,3 +139,24 @@ fn diagonal_and_trace_through_a_view_are_the_estimators_bits() {
     );
     assert_eq!(Algorithm::from_code(2), None);
 }
+
+#[test]
+fn models_report_their_premise_and_sets() {
+    use rotorid::hover::{Premise, StateModel};
+    let sets = flight_sets::<f32>();
+    let id = FlightIdentifier::<f32>::flight(HoverConfig::default(), sets.clone()).unwrap();
+    let (premise, variables) = id.velocity_model().premise_sets();
+    assert_eq!(premise, Premise::HeadingVelocity);
+    assert_eq!(variables[0], sets, "forward speed");
+    assert!(variables[1].is_empty() && variables[2].is_empty());
+    let (premise, variables) = id.roll_model().premise_sets();
+    assert_eq!((premise, &variables[0]), (Premise::HeadingVelocity, &sets));
+    let paper = PaperFuzzyIdentifier::<f32>::paper_fuzzy(HoverConfig::paper()).unwrap();
+    let (premise, variables) = paper.pitch_model().premise_sets();
+    assert_eq!(premise, Premise::Rates);
+    assert_eq!(
+        variables.iter().map(|v| v.len()).product::<usize>(),
+        18,
+        "18 rules"
+    );
+}

@@ -48,6 +48,10 @@ pub trait StateModel<T: Real> {
     fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
     /// The estimator settings.
     fn rls_config(&self) -> &RlsConfig<T>;
+    /// The premise the rules are scheduled on and each premise variable's sets (an empty
+    /// list: the variable does not take part), as a tool writes them next to an export so
+    /// that a firmware can rebuild the same rule base.
+    fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]);
     /// Calls `f` with a view of each of the model's RLS estimators, in export order (see
     /// [`TsEstimator::for_each_rls`](crate::learning::TsEstimator::for_each_rls)).
     fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>));

@@ -300,4 +300,8 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>)) {
         self.ts.for_each_rls(f)
     }
+
+    fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
+        (self.premise, self.ts.rules().variables())
+    }
 }
