@@ -5,6 +5,7 @@ pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
 pub mod flight_report;
+pub mod flights;
 #[path = "../../core/tests/support/golden.rs"]
 pub mod golden;
 pub mod import;

@@ -573,5 +573,5 @@ pub fn simulated_flight(seed: u64, duration_s: f64) -> Result<Vec<HoverSample<f3
     let cfg = FlightConfig::realistic(seed, duration_s);
     let mut exc = verification_excitation(seed, duration_s);
     let log = simulate(&cfg, &mut exc).map_err(|e| format!("{e}"))?;
-    Ok(crate::experiments::to_hover_samples(&log))
+    Ok(crate::flights::to_hover_samples(&log))
 }

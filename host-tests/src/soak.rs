@@ -14,7 +14,7 @@ use rotorid::rls::RlsConfig;
 use rotorid::{FlightIdentifier, HoverConfig};
 
 use crate::envelope::{envelope_flight, EnvelopeKind};
-use crate::experiments::{identification_flight, to_hover_samples};
+use crate::flights::{identification_flight, to_hover_samples};
 use crate::plant::{simulate, Excitation, FlightConfig, PlantError};
 
 /// Forgetting factor of the soak: a memory of about 2 000 samples (40 s).

@@ -313,7 +313,7 @@ fn malformed_logs_give_positioned_errors() {
 }
 
 mod found_as_a_new_user {
-    use host_tests::experiments::identification_flight_for;
+    use host_tests::flights::identification_flight_for;
     use host_tests::log::{parse_log, rate_unit_ratio, warnings, write_log_to};
 
     fn csv(samples: &[host_tests::plant::SensorSample]) -> String {

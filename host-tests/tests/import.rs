@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use host_tests::experiments;
+use host_tests::flights;
 use host_tests::import::{self, synth, ImportError, LogFormat};
 use host_tests::plant::SensorSample;
 
@@ -27,7 +27,7 @@ fn heli_flight(seconds: f64) -> Vec<SensorSample> {
         seed: 3,
         ..Default::default()
     };
-    let mut s = experiments::identification_flight_with(&config, seconds).expect("simulates");
+    let mut s = flights::identification_flight_with(&config, seconds).expect("simulates");
     s.iter_mut()
         .enumerate()
         .for_each(|(k, x)| x.t = k as f64 * 0.02);

@@ -6,6 +6,6 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     if let Ok(samples) = host_tests::log::parse_log("fuzz.csv", data) {
         let _ = host_tests::log::warnings("fuzz.csv", &samples);
-        let _ = host_tests::experiments::to_hover_samples(&samples);
+        let _ = host_tests::flights::to_hover_samples(&samples);
     }
 });

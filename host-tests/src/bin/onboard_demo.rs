@@ -9,9 +9,8 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use host_tests::experiments::{
-    format_table4, identification_flight, to_hover_samples, verification_flight,
-};
+use host_tests::experiments::format_table4;
+use host_tests::flights::{identification_flight, to_hover_samples, verification_flight};
 use host_tests::onboard::{Onboard, OnboardError};
 use indicatif::{ProgressBar, ProgressStyle};
 use rotorid::HoverState;

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use host_tests::envelope::{self, EnvelopeKind};
 use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use host_tests::flights;
 use host_tests::import;
 use host_tests::log;
 use host_tests::plant::{simulate, verification_excitation, FlightConfig};
@@ -181,7 +182,7 @@ fn run_simulate(
         }
     }
     if let (Kind::Identification, Some(d)) = (kind, duration) {
-        let full = experiments::identification_duration_s();
+        let full = flights::identification_duration_s();
         if d > full {
             return Err(format!(
                 "--duration {d} s: the identification flight (the four Table 2 sweeps) lasts {full} s; give at most that, or fly a verification flight for longer"
@@ -190,9 +191,9 @@ fn run_simulate(
     }
     let samples = match (kind, clean) {
         (Kind::Identification, false) => {
-            experiments::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
+            flights::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
         }
-        (Kind::Identification, true) => experiments::identification_flight_with(
+        (Kind::Identification, true) => flights::identification_flight_with(
             &clean_config(seed),
             duration.unwrap_or(f64::INFINITY),
         ),
@@ -229,7 +230,7 @@ fn run_simulate(
     eprintln!(
         "wrote {} samples ({:.1} s) to {}",
         samples.len(),
-        samples.len() as f64 / f64::from(experiments::SAMPLE_RATE_HZ),
+        samples.len() as f64 / f64::from(flights::SAMPLE_RATE_HZ),
         output.display()
     );
     Ok(())
@@ -250,7 +251,7 @@ fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f3
     report_import(path, &imported, &segments);
     Ok(segments
         .iter()
-        .map(|s| experiments::to_hover_samples(s))
+        .map(|s| flights::to_hover_samples(s))
         .collect())
 }
 

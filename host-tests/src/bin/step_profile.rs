@@ -15,8 +15,8 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::{Command, ExitCode, Stdio};
 
-use host_tests::experiments::{identification_flight, to_hover_samples};
 use host_tests::firmware_link::BootOptions;
+use host_tests::flights::{identification_flight, to_hover_samples};
 use host_tests::onboard::Onboard;
 use rotorid_link::msg::{RlsForm, SampleMode, SampleMsg};
 
