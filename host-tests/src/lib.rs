@@ -1,5 +1,5 @@
-//! Host-side (std) companion of the `rotorid` core: plant simulator, experiments, log format,
-//! independent reference implementation and the firmware link driver.
+//! Host-side (std) companion of the `rotorid` core: plant simulator, experiments, log format
+//! and the firmware link driver.
 pub mod envelope;
 pub mod experiments;
 pub mod firmware_link;
@@ -15,8 +15,6 @@ pub mod plant;
 pub mod precision;
 pub mod report;
 pub mod soak;
-
-pub use rotorid_reference::{dense_rls, reference};
 
 /// The code blocks of the repository's README, compiled and run as doc tests so the README
 /// stays true.
