@@ -18,7 +18,7 @@ use rotorid::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::flights::SAMPLE_RATE_HZ;
+use rotorid_sim::flights::SAMPLE_RATE_HZ;
 
 /// Names of the six states in Table 4's order.
 pub const STATE_NAMES: [&str; 6] = ["v_x", "v_y", "v_z", "q", "r", "p"];

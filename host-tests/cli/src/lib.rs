@@ -19,5 +19,3 @@ pub mod report;
 #[path = "../../../core/tests/support/golden.rs"]
 #[allow(dead_code)]
 mod golden;
-
-use rotorid_sim::{flights, plant};

@@ -7,19 +7,22 @@
 //! rotorid identify --train ident.csv --verify verify.csv --out results/
 //! rotorid convert flight.ulg -o flight.csv
 //! ```
+//!
+//! The binary of package `rotorid-cli`: argument parsing and printing only; the work is done by
+//! its library (`rotorid_cli`) on flights from `rotorid-sim` with the `rotorid` core.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use host_tests::envelope::{self, EnvelopeKind};
-use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
-use host_tests::flights;
-use host_tests::import;
-use host_tests::log;
-use host_tests::plant::{simulate, verification_excitation, FlightConfig};
-use host_tests::report::{self, Metrics, Table4};
 use indicatif::{ProgressBar, ProgressStyle};
+use rotorid_cli::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use rotorid_cli::import;
+use rotorid_cli::log;
+use rotorid_cli::report::{self, Metrics, Table4};
+use rotorid_sim::envelope::{self, EnvelopeKind};
+use rotorid_sim::flights;
+use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig};
 
 #[derive(Parser)]
 #[command(
@@ -372,7 +375,7 @@ fn run_identify(
     }
     // f32 against f64 for the extended structures (issue 5): same logs, same settings.
     let precision =
-        host_tests::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
+        rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
     for p in &precision {
         println!(
             "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",

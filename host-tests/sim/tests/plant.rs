@@ -1,8 +1,8 @@
 //! Tests of the X-Cell 60 plant simulator: trim figures, trim balance, sign conventions,
 //! response symmetry, reproducibility, pilot-held hover, verification flight, errors.
 
-use rotorid_sim::plant::*;
 use nalgebra::Vector3;
+use rotorid_sim::plant::*;
 
 fn trim() -> HoverTrim {
     trim_hover(&XCell60::default(), 0.0).expect("trim converges")
