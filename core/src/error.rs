@@ -192,3 +192,24 @@ impl From<ConfigError> for Error {
         Error::Config(c)
     }
 }
+
+/// With the `std` feature: a rotorid error as an I/O error of kind `InvalidData` (its message
+/// kept), so that a host program replaying a log can `?` both through one `io::Result`.
+#[cfg(feature = "std")]
+impl From<Error> for std::io::Error {
+    fn from(e: Error) -> Self {
+        std::io::Error::new(std::io::ErrorKind::InvalidData, e)
+    }
+}
+
+#[cfg(all(test, feature = "std"))]
+mod std_tests {
+    use super::*;
+
+    #[test]
+    fn an_error_becomes_an_io_error_with_its_message() {
+        let io: std::io::Error = Error::NonMonotonicTime.into();
+        assert_eq!(io.kind(), std::io::ErrorKind::InvalidData);
+        assert_eq!(std::format!("{io}"), "time stamp does not increase");
+    }
+}

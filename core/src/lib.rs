@@ -17,6 +17,10 @@
 )]
 #![warn(missing_docs)]
 
+// The `std` feature links std for its conveniences only (`From<Error> for std::io::Error`).
+#[cfg(feature = "std")]
+extern crate std;
+
 pub mod convergence;
 pub mod error;
 pub mod frames;

@@ -28,7 +28,7 @@
 //! `R·D + R·D(R·D+1)/2`.
 
 use crate::error::{ConfigError, Error, Quantity};
-use crate::rls::{Everything, Rls, RlsConfig, RlsState, TARGET_LIMIT};
+use crate::rls::{AllParameters, Rls, RlsConfig, RlsState, TARGET_LIMIT};
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
 use crate::ts::{combine, prepare_rows, scaled_terms, Prepared, Scaling};
@@ -49,7 +49,7 @@ pub struct LocalTsRls<T, const V: usize, const R: usize, const D: usize, const D
     config: RlsConfig<T>,
 }
 
-/// Everything a [`LocalTsRls`] has learnt: each rule's θ_i and covariance factor, in rule
+/// AllParameters a [`LocalTsRls`] has learnt: each rule's θ_i and covariance factor, in rule
 /// order (scaled coordinates).
 pub type LocalState<T, const R: usize, const D: usize, const DP: usize> = [RlsState<T, D, DP>; R];
 
@@ -200,7 +200,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
                 let e = y - combine(row, rls.parameters());
                 let phi = row.map(|x| x * root);
                 let l = if r == last { lambda_i } else { T::one() };
-                rls.update_row(&phi, Everything(D), e * root, l);
+                rls.update_row(&phi, AllParameters(D), e * root, l);
             }
         }
     }

@@ -16,7 +16,7 @@ use rotorid_link::{
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
 
-use firmware_ident::{Engine, Reply};
+use firmware_example::ident::{Identification, Reply};
 
 use crate::mavlink_port::MavlinkPort;
 
@@ -47,7 +47,7 @@ struct AppCounters {
 pub struct Link<U, P, T> {
     io: U,
     platform: P,
-    engine: &'static mut Engine,
+    engine: &'static mut Identification,
     mav: MavlinkPort<T>,
     decoder: FrameDecoder,
     tx: FrameEncoder,
@@ -56,7 +56,12 @@ pub struct Link<U, P, T> {
 
 impl<U: Read + Write, P: Platform, T: Write> Link<U, P, T> {
     /// A link over `io` serving `engine`, with MAVLink telemetry on `mav`.
-    pub fn new(io: U, platform: P, engine: &'static mut Engine, mav: MavlinkPort<T>) -> Self {
+    pub fn new(
+        io: U,
+        platform: P,
+        engine: &'static mut Identification,
+        mav: MavlinkPort<T>,
+    ) -> Self {
         Self {
             io,
             platform,
@@ -220,7 +225,7 @@ impl<U: Write> Reply for Out<'_, U> {
 fn handle<U: Write, P: Platform, T: Write>(
     frame: Frame<'_>,
     platform: &mut P,
-    engine: &mut Engine,
+    engine: &mut Identification,
     mav: &mut MavlinkPort<T>,
     out: &mut Out<'_, U>,
 ) {

@@ -11,7 +11,9 @@
 //! * [`link`]: the board-agnostic application, generic over `embedded_io::{Read, Write}`.
 //! * [`mavlink_port`]: MAVLink 2 telemetry on UART1 beside the link (docs/protocol.md,
 //!   "MAVLink 2"); on a vehicle, wire it to the telemetry radio's UART.
-//! * [`firmware_ident`] (crate `ident/`): the onboard identifiers (fuzzy + plain) and the identification messages.
+//! * [`semihosting_log`]: the defmt transport for QEMU.
+//! * `firmware_example::ident` (the library, `src/lib.rs`): the onboard identifiers (fuzzy +
+//!   plain) and the identification messages.
 //!
 //! ## Running it on a real flight computer
 //!
@@ -24,7 +26,7 @@
 //!    chip without a debugger attached.
 //! 2. **memory.x** (repository root): set FLASH/RAM origins of your chip; keep the 64/32 KiB
 //!    budget lengths if you want the linker to keep enforcing them.
-//! 3. **defmt transport**: replace `defmt-semihosting` by `defmt-rtt` (`use defmt_rtt as _;`)
+//! 3. **defmt transport**: replace [`semihosting_log`] by `defmt-rtt` (`use defmt_rtt as _;`)
 //!    and read the log with `probe-rs run --chip <CHIP>` instead of QEMU + `defmt-print`.
 //!    Semihosting is slow and stops a target that has no debugger.
 //! 4. **.cargo/config.toml**: `runner = "probe-rs run --chip <CHIP>"`.
@@ -37,10 +39,10 @@
 mod board;
 mod link;
 mod mavlink_port;
+// The defmt transport for QEMU (panic-free); on hardware drop it and `use defmt_rtt as _;`.
+mod semihosting_log;
 
 use cortex_m_rt::entry;
-// defmt transport for QEMU; use `defmt_rtt as _;` on hardware.
-use defmt_semihosting as _;
 use embedded_hal::delay::DelayNs;
 
 #[entry]
@@ -50,7 +52,7 @@ fn main() -> ! {
     let Some(cp) = cortex_m::Peripherals::take() else {
         board::exit(board::EXIT_INIT)
     };
-    let Some(engine) = firmware_ident::Engine::take() else {
+    let Some(engine) = firmware_example::ident::Identification::take() else {
         defmt::error!("identifier construction failed");
         board::exit(board::EXIT_INIT)
     };

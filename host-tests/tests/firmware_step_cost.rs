@@ -1,10 +1,10 @@
 //! Every identifier, including the local-learning ones and the flight default, computes the
 //! same bits on the Cortex-M4F (QEMU) as on x86_64, on a stream that fires every rule: the
 //! firmware's `step-cost` binary prints a hash of all its predictions per identifier, and the
-//! very same module (`firmware-example/ident/src/step_cost.rs`) runs here.
+//! very same module (`firmware-example/src/step_cost.rs`) runs here.
 
 #[allow(dead_code)]
-#[path = "../../firmware-example/ident/src/step_cost.rs"]
+#[path = "../../firmware-example/src/step_cost.rs"]
 mod step_cost;
 
 use std::collections::BTreeMap;

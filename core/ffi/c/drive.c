@@ -20,7 +20,9 @@
 
 /* Large enough for every kind this build runs (see drive.h). */
 static ROTORID_STORAGE(storage, DRIVE_STORAGE_SIZE);
+#ifndef DRIVE_ONLY_INIT
 static ROTORID_STORAGE(spare, 64);
+#endif
 static uint8_t exported[DRIVE_EXPORT_SIZE];
 
 typedef struct {
@@ -116,6 +118,17 @@ static int32_t config_for(uint32_t kind, rotorid_config_t *c) {
     return rotorid_config_default(c);
 }
 
+/* A build for one kind (DRIVE_ONLY) calls that kind's own init, so that it links only that
+ * kind's code; the full build goes through rotorid_init. */
+static int32_t init_kind(uint32_t kind, const rotorid_config_t *config, rotorid_ident_t **id) {
+#ifdef DRIVE_ONLY_INIT
+    (void)kind;
+    return DRIVE_ONLY_INIT(storage, sizeof storage, config, NULL, id, &err);
+#else
+    return rotorid_init(storage, sizeof storage, kind, config, NULL, id, &err);
+#endif
+}
+
 static int drive_kind(uint32_t kind, drive_emit_t emit) {
     rotorid_config_t config;
     rotorid_ident_t *id = NULL;
@@ -124,7 +137,7 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
     CHECK(rc == ROTORID_OK, "config", rc);
     CHECK(rotorid_storage_size(kind) <= sizeof storage, "storage size", 0);
     CHECK(rotorid_export_size(kind) <= sizeof exported, "export size", 0);
-    rc = rotorid_init(storage, sizeof storage, kind, &config, NULL, &id, &err);
+    rc = init_kind(kind, &config, &id);
     CHECK(rc == ROTORID_OK && id != NULL, "init", rc);
 
     for (size_t k = 0; k < FLIGHT_LEN; k++) {
@@ -204,7 +217,7 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
         rc = rotorid_export(id, exported, sizeof exported, &n, &err);
         CHECK(rc == ROTORID_OK, "export after reset", rc);
         fnv_bytes(&reset, exported, n);
-        rc = rotorid_init(storage, sizeof storage, kind, &config, NULL, &fresh, &err);
+        rc = init_kind(kind, &config, &fresh);
         CHECK(rc == ROTORID_OK, "init again", rc);
         rc = rotorid_export(fresh, exported, sizeof exported, &n2, &err);
         fnv_bytes(&fresh_hash, exported, n2);
@@ -224,6 +237,7 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
     return 0;
 }
 
+#ifndef DRIVE_ONLY_INIT
 /* Interface errors are codes, never a crash. */
 static int drive_interface_errors(drive_emit_t emit) {
     rotorid_ident_t *id = NULL;
@@ -274,6 +288,24 @@ static int drive_interface_errors(drive_emit_t emit) {
     CHECK(rc == ROTORID_OK && out.has_innovation == 0, "first step", rc);
     rc = rotorid_step(id, &s, &out, &err);
     CHECK(rc == ROTORID_E_NON_MONOTONIC_TIME, "repeated time stamp", rc);
+    {
+        /* The NED/FRD conversion: 1 m/s north, 2 east, 0.5 down; rolling right at 0.1 rad/s. */
+        rotorid_ned_frd_sample_t ned = {20000u, {0.05f, -0.02f, 1.0f}, {1.0f, 2.0f, 0.5f},
+                                        {0.1f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f, 0.0f}};
+        rotorid_sample_t paper;
+        rotorid_state_t state;
+        float v[3], w[3];
+        rc = rotorid_sample_from_ned_frd(&ned, &paper);
+        CHECK(rc == ROTORID_OK && paper.velocity[0] == 2.0f && paper.velocity[1] == -0.5f &&
+                  paper.velocity[2] == -1.0f && paper.rates[0] == 0.0f && paper.rates[2] > 5.7f,
+              "NED/FRD to paper axes", rc);
+        memcpy(state.velocity, paper.velocity, sizeof state.velocity);
+        memcpy(state.rates, paper.rates, sizeof state.rates);
+        rc = rotorid_state_to_ned_frd(&state, v, w);
+        CHECK(rc == ROTORID_OK && v[0] == 1.0f && v[1] == 2.0f && v[2] == 0.5f && w[0] > 0.099f &&
+                  w[0] < 0.101f,
+              "paper axes to NED/FRD", rc);
+    }
     s.controls[2] = 1.5f;
     s.time_us += 20000u;
     rc = rotorid_step(id, &s, &out, &err);
@@ -282,6 +314,8 @@ static int drive_interface_errors(drive_emit_t emit) {
           "control out of range", rc);
     return 0;
 }
+
+#endif
 
 /* Table 2's schedule: every sample's command, hashed. */
 static int drive_sweeps(drive_emit_t emit) {
@@ -320,7 +354,9 @@ static int drive_sweeps(drive_emit_t emit) {
 
 int drive(drive_emit_t emit) {
     static const uint32_t kinds[] = {DRIVE_KINDS};
+#ifndef DRIVE_ONLY_INIT
     if (drive_interface_errors(emit)) return 1;
+#endif
     if (drive_sweeps(emit)) return 1;
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
         if (drive_kind(kinds[i], emit)) return 1;

@@ -7,7 +7,7 @@
 /* Which kinds run, and the storage and export buffer sized for the largest of them. The host
  * runs all eight; the firmware (64 KiB RAM) leaves out EXTENDED_FUZZY, whose 27 KiB of state
  * (and as much stack to build it) do not fit beside the rest. */
-#if defined(DRIVE_ONLY) /* one kind, to measure its stack (see docs/cost.md) */
+#if defined(DRIVE_ONLY) /* one kind, to measure its stack and flash (DRIVE_ONLY_INIT: its rotorid_init_<kind>) */
 #define DRIVE_KINDS DRIVE_ONLY
 #if DRIVE_ONLY == 5
 #define DRIVE_STORAGE_SIZE ROTORID_EXTENDED_FUZZY_STORAGE_SIZE

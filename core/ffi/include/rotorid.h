@@ -279,42 +279,42 @@
 /**
  * Storage bytes of `ROTORID_KIND_FLIGHT`.
  */
-#define ROTORID_FLIGHT_STORAGE_SIZE 2832
+#define ROTORID_FLIGHT_STORAGE_SIZE 2840
 
 /**
  * Storage bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
  */
-#define ROTORID_FLIGHT_PLAIN_STORAGE_SIZE 1488
+#define ROTORID_FLIGHT_PLAIN_STORAGE_SIZE 1496
 
 /**
  * Storage bytes of `ROTORID_KIND_PAPER_FUZZY`.
  */
-#define ROTORID_PAPER_FUZZY_STORAGE_SIZE 11272
+#define ROTORID_PAPER_FUZZY_STORAGE_SIZE 11280
 
 /**
  * Storage bytes of `ROTORID_KIND_PAPER_PLAIN`.
  */
-#define ROTORID_PAPER_PLAIN_STORAGE_SIZE 880
+#define ROTORID_PAPER_PLAIN_STORAGE_SIZE 888
 
 /**
  * Storage bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
  */
-#define ROTORID_EXTENDED_FUZZY_STORAGE_SIZE 27240
+#define ROTORID_EXTENDED_FUZZY_STORAGE_SIZE 27248
 
 /**
  * Storage bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
  */
-#define ROTORID_EXTENDED_PLAIN_STORAGE_SIZE 1232
+#define ROTORID_EXTENDED_PLAIN_STORAGE_SIZE 1240
 
 /**
  * Storage bytes of `ROTORID_KIND_PAPER_LOCAL`.
  */
-#define ROTORID_PAPER_LOCAL_STORAGE_SIZE 3760
+#define ROTORID_PAPER_LOCAL_STORAGE_SIZE 3768
 
 /**
  * Storage bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
  */
-#define ROTORID_EXTENDED_LOCAL_STORAGE_SIZE 5184
+#define ROTORID_EXTENDED_LOCAL_STORAGE_SIZE 5192
 
 /**
  * Export bytes of `ROTORID_KIND_FLIGHT`.
@@ -402,107 +402,6 @@
 typedef struct rotorid_ident_t rotorid_ident_t;
 
 /**
- * Settings of an identifier (`rotorid::HoverConfig`). Fill it with
- * `rotorid_config_default` or
- * `rotorid_config_paper` and change what you need.
- */
-typedef struct {
-  /**
-   * `ROTORID_ALGORITHM_COVARIANCE` or `ROTORID_ALGORITHM_UD`.
-   */
-  uint32_t algorithm;
-  /**
-   * α in P(0) = αI, the prior variance of each parameter; in (0, 1e12].
-   */
-  float initial_covariance;
-  /**
-   * Forgetting factor λ ∈ [0.9, 1]; 1 forgets nothing.
-   */
-  float forgetting;
-  /**
-   * Windup guard for λ < 1: upper bound on trace(P); in (0, 1e12].
-   */
-  float max_trace;
-  /**
-   * Nominal sample period ΔT (µs); the parameters are per-step quantities.
-   */
-  uint32_t sample_period_us;
-  /**
-   * Accepted deviation of one interval from ΔT (µs); less than ΔT.
-   */
-  uint32_t period_tolerance_us;
-  /**
-   * `ROTORID_SCALING_NONE` or `ROTORID_SCALING_HELICOPTER`.
-   */
-  uint32_t scaling;
-} rotorid_config_t;
-
-/**
- * The forward-speed premise sets of `ROTORID_KIND_FLIGHT` (m/s, heading frame): a left
- * shoulder, a Gaussian and a right shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
- * shoulder's centre. Defaults (`rotorid_flight_sets_default`):
- * centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
- * (`rotorid::premise::quantile_sets`).
- */
-typedef struct {
-  /**
-   * Centres c of the left shoulder, the Gaussian and the right shoulder (m/s).
-   */
-  float centre[3];
-  /**
-   * Spreads σ of the same sets (m/s, > 0).
-   */
-  float spread[3];
-} rotorid_flight_sets_t;
-
-/**
- * The detail of an error; every call that can fail takes a `rotorid_error_t *` (NULL when
- * the detail is not wanted) and fills it on failure. Fields not named by the code are 0.
- */
-typedef struct {
-  /**
-   * The code the call returned.
-   */
-  int32_t code;
-  /**
-   * `ROTORID_QUANTITY_*` of a NON_FINITE or OUT_OF_RANGE value.
-   */
-  uint32_t quantity;
-  /**
-   * Index within the quantity (axis, control, entry).
-   */
-  uint32_t index;
-  /**
-   * TIME_STEP: measured interval (µs).
-   */
-  uint64_t dt_us;
-  /**
-   * TIME_STEP: shortest accepted interval (µs).
-   */
-  uint64_t min_us;
-  /**
-   * TIME_STEP: longest accepted interval (µs).
-   */
-  uint64_t max_us;
-  /**
-   * CONFIG_MEMBERSHIP: premise variable.
-   */
-  uint32_t variable;
-  /**
-   * CONFIG_MEMBERSHIP: set within the variable.
-   */
-  uint32_t set;
-  /**
-   * CONFIG_RULE_COUNT: rules the identifier holds; CONFIG_CONSEQUENT_TERMS: terms needed.
-   */
-  uint32_t expected;
-  /**
-   * CONFIG_RULE_COUNT: rules the sets make; CONFIG_CONSEQUENT_TERMS: terms provided.
-   */
-  uint32_t found;
-} rotorid_error_t;
-
-/**
  * One measurement sample at time step k.
  */
 typedef struct {
@@ -568,6 +467,133 @@ typedef struct {
    */
   uint32_t has_innovation;
 } rotorid_step_output_t;
+
+/**
+ * The detail of an error; every call that can fail takes a `rotorid_error_t *` (NULL when
+ * the detail is not wanted) and fills it on failure. Fields not named by the code are 0.
+ */
+typedef struct {
+  /**
+   * The code the call returned.
+   */
+  int32_t code;
+  /**
+   * `ROTORID_QUANTITY_*` of a NON_FINITE or OUT_OF_RANGE value.
+   */
+  uint32_t quantity;
+  /**
+   * Index within the quantity (axis, control, entry).
+   */
+  uint32_t index;
+  /**
+   * TIME_STEP: measured interval (µs).
+   */
+  uint64_t dt_us;
+  /**
+   * TIME_STEP: shortest accepted interval (µs).
+   */
+  uint64_t min_us;
+  /**
+   * TIME_STEP: longest accepted interval (µs).
+   */
+  uint64_t max_us;
+  /**
+   * CONFIG_MEMBERSHIP: premise variable.
+   */
+  uint32_t variable;
+  /**
+   * CONFIG_MEMBERSHIP: set within the variable.
+   */
+  uint32_t set;
+  /**
+   * CONFIG_RULE_COUNT: rules the identifier holds; CONFIG_CONSEQUENT_TERMS: terms needed.
+   */
+  uint32_t expected;
+  /**
+   * CONFIG_RULE_COUNT: rules the sets make; CONFIG_CONSEQUENT_TERMS: terms provided.
+   */
+  uint32_t found;
+} rotorid_error_t;
+
+/**
+ * Settings of an identifier (`rotorid::HoverConfig`). Fill it with
+ * `rotorid_config_default` or
+ * `rotorid_config_paper` and change what you need.
+ */
+typedef struct {
+  /**
+   * `ROTORID_ALGORITHM_COVARIANCE` or `ROTORID_ALGORITHM_UD`.
+   */
+  uint32_t algorithm;
+  /**
+   * α in P(0) = αI, the prior variance of each parameter; in (0, 1e12].
+   */
+  float initial_covariance;
+  /**
+   * Forgetting factor λ ∈ [0.9, 1]; 1 forgets nothing.
+   */
+  float forgetting;
+  /**
+   * Windup guard for λ < 1: upper bound on trace(P); in (0, 1e12].
+   */
+  float max_trace;
+  /**
+   * Nominal sample period ΔT (µs); the parameters are per-step quantities.
+   */
+  uint32_t sample_period_us;
+  /**
+   * Accepted deviation of one interval from ΔT (µs); less than ΔT.
+   */
+  uint32_t period_tolerance_us;
+  /**
+   * `ROTORID_SCALING_NONE` or `ROTORID_SCALING_HELICOPTER`.
+   */
+  uint32_t scaling;
+} rotorid_config_t;
+
+/**
+ * One sample in the NED / FRD convention.
+ */
+typedef struct {
+  /**
+   * Time stamp (µs, monotonic).
+   */
+  uint64_t time_us;
+  /**
+   * ZYX Euler angles `[φ θ ψ]` (rad): roll, pitch, yaw (heading from north).
+   */
+  float euler[3];
+  /**
+   * Velocity `[v_n v_e v_d]` (m/s).
+   */
+  float velocity_ned[3];
+  /**
+   * Body rates `[p q r]` about forward, right, down (rad/s).
+   */
+  float rates_frd[3];
+  /**
+   * Controls `[u_col u_ped u_lon u_lat]` (−1…1).
+   */
+  float controls[4];
+} rotorid_ned_frd_sample_t;
+
+/**
+ * The forward-speed premise sets of `ROTORID_KIND_FLIGHT` (m/s, heading frame): a left
+ * shoulder, a Gaussian and a right shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
+ * shoulder's centre. Defaults (`rotorid_flight_sets_default`):
+ * centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
+ * (`rotorid::premise::quantile_sets`).
+ */
+typedef struct {
+  /**
+   * Centres c of the left shoulder, the Gaussian and the right shoulder (m/s).
+   */
+  float centre[3];
+  /**
+   * Spreads σ of the same sets (m/s, > 0).
+   */
+  float spread[3];
+} rotorid_flight_sets_t;
 
 /**
  * One frequency sweep with trim pads (`rotorid::sweep::Sweep`):
@@ -639,71 +665,6 @@ extern "C" {
  * even when everything aborts on panic; this library never unwinds, so it is never called.
  */
 void rust_eh_personality(void);
-
-/**
- * The name of a code (`"ROTORID_E_TIME_STEP"`, ...), a static NUL-terminated string;
- * `"ROTORID_E_?"` for a code this library does not know.
- */
-const char *rotorid_error_name(int32_t code);
-
-/**
- * Storage bytes an identifier of `kind` needs (0 for an unknown kind).
- */
-size_t rotorid_storage_size(uint32_t kind);
-
-/**
- * Bytes of an export of `kind` (0 for an unknown kind).
- */
-size_t rotorid_export_size(uint32_t kind);
-
-/**
- * The flight settings (`rotorid::HoverConfig::default()`): U-D RLS, α = 10⁶, λ = 1,
- * helicopter scaling, 50 Hz ± 50 %. Returns `ROTORID_E_NULL` when `out` is NULL.
- *
- * # Safety
- * `out` is NULL or points to a writable `rotorid_config_t`.
- */
-int32_t rotorid_config_default(rotorid_config_t *out);
-
-/**
- * The paper's settings (`rotorid::HoverConfig::paper()`): covariance-form RLS, α = 10⁶,
- * λ = 1, no scaling, 50 Hz ± 50 %.
- *
- * # Safety
- * As `rotorid_config_default`.
- */
-int32_t rotorid_config_paper(rotorid_config_t *out);
-
-/**
- * The default forward-speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
- *
- * # Safety
- * `out` is NULL or points to a writable `rotorid_flight_sets_t`.
- */
-int32_t rotorid_flight_sets_default(rotorid_flight_sets_t *out);
-
-/**
- * Prepares an identifier of `kind` in `storage` (`storage_size` bytes, aligned to
- * `ROTORID_STORAGE_ALIGN`) and writes its handle to `*handle`.
- *
- * `config`: the settings (NULL: `rotorid_config_default`). `sets`: the forward-speed sets of
- * `ROTORID_KIND_FLIGHT` (NULL: `rotorid_flight_sets_default`); must be NULL for the other
- * kinds. On an error the storage is not written. Building the identifier uses about its
- * storage size of stack. Calling it again on the same storage starts afresh.
- *
- * Errors: NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT, and the core's CONFIG_* codes.
- *
- * # Safety
- * `storage` is NULL or valid for writes of `storage_size` bytes and not used for anything
- * else while the identifier lives; `config`, `sets`, `handle`, `error` are NULL or valid.
- */
-int32_t rotorid_init(void *storage,
-                     size_t storage_size,
-                     uint32_t kind,
-                     const rotorid_config_t *config,
-                     const rotorid_flight_sets_t *sets,
-                     rotorid_ident_t **handle,
-                     rotorid_error_t *error);
 
 /**
  * Takes sample k+1: learns every model from sample k to it and predicts sample k+2
@@ -792,6 +753,174 @@ int32_t rotorid_import(rotorid_ident_t *h,
                        rotorid_error_t *error);
 
 /**
+ * The name of a code (`"ROTORID_E_TIME_STEP"`, ...), a static NUL-terminated string;
+ * `"ROTORID_E_?"` for a code this library does not know.
+ */
+const char *rotorid_error_name(int32_t code);
+
+/**
+ * Converts a NED/FRD sample to the identifier's axes and units (paper axes, deg/s).
+ *
+ * # Safety
+ * `input` and `out` are NULL or valid.
+ */
+int32_t rotorid_sample_from_ned_frd(const rotorid_ned_frd_sample_t *input, rotorid_sample_t *out);
+
+/**
+ * Converts a predicted state back to NED velocity (m/s) and FRD body rates (rad/s).
+ *
+ * # Safety
+ * `state` is NULL or valid; `velocity_ned` and `rates_frd` are NULL or point to 3 floats each.
+ */
+int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
+                                 float *velocity_ned,
+                                 float *rates_frd);
+
+/**
+ * Prepares an identifier of `kind` (`ROTORID_KIND_*`) in `storage` and writes its handle to
+ * `*handle`. This call links the code of every kind; `rotorid_init_<kind>` links one.
+ *
+ * `storage`: at least `rotorid_storage_size(kind)` bytes (`storage_size`), aligned to
+ * `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives; calling an init
+ * again on it starts afresh. `config`: the settings (NULL: `rotorid_config_default`).
+ * `sets`: the forward-speed sets of `ROTORID_KIND_FLIGHT` (NULL: the defaults); must be NULL
+ * for the other kinds. On an error the storage is not written.
+ *
+ * The identifier is built in place. Stack, measured by the C firmware test over init, steps,
+ * export and import (`docs/c-interface.md`): 4.3 KiB for `ROTORID_KIND_FLIGHT`, 13 KiB for
+ * `ROTORID_KIND_PAPER_FUZZY`.
+ *
+ * Errors: NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT, and the core's CONFIG_* codes.
+ *
+ * # Safety
+ * `storage` is NULL or valid for writes of `storage_size` bytes; `config`, `sets`, `handle`
+ * and `error` are NULL or valid.
+ */
+int32_t rotorid_init(void *storage,
+                     size_t storage_size,
+                     uint32_t kind,
+                     const rotorid_config_t *config,
+                     const rotorid_flight_sets_t *sets,
+                     rotorid_ident_t **handle,
+                     rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_FLIGHT`, linking that kind only. `sets`: NULL for the
+ * defaults (`rotorid_flight_sets_default`). Every `rotorid_init_<kind>` takes the same
+ * arguments; `sets` must be NULL for the kinds without premise sets of their own.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_flight(void *storage,
+                            size_t storage_size,
+                            const rotorid_config_t *config,
+                            const rotorid_flight_sets_t *sets,
+                            rotorid_ident_t **handle,
+                            rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_FLIGHT_PLAIN`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_flight_plain(void *storage,
+                                  size_t storage_size,
+                                  const rotorid_config_t *config,
+                                  const rotorid_flight_sets_t *sets,
+                                  rotorid_ident_t **handle,
+                                  rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_PAPER_FUZZY`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_paper_fuzzy(void *storage,
+                                 size_t storage_size,
+                                 const rotorid_config_t *config,
+                                 const rotorid_flight_sets_t *sets,
+                                 rotorid_ident_t **handle,
+                                 rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_PAPER_PLAIN`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_paper_plain(void *storage,
+                                 size_t storage_size,
+                                 const rotorid_config_t *config,
+                                 const rotorid_flight_sets_t *sets,
+                                 rotorid_ident_t **handle,
+                                 rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_EXTENDED_FUZZY`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_extended_fuzzy(void *storage,
+                                    size_t storage_size,
+                                    const rotorid_config_t *config,
+                                    const rotorid_flight_sets_t *sets,
+                                    rotorid_ident_t **handle,
+                                    rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_EXTENDED_PLAIN`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_extended_plain(void *storage,
+                                    size_t storage_size,
+                                    const rotorid_config_t *config,
+                                    const rotorid_flight_sets_t *sets,
+                                    rotorid_ident_t **handle,
+                                    rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_PAPER_LOCAL`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_paper_local(void *storage,
+                                 size_t storage_size,
+                                 const rotorid_config_t *config,
+                                 const rotorid_flight_sets_t *sets,
+                                 rotorid_ident_t **handle,
+                                 rotorid_error_t *error);
+
+/**
+ * `rotorid_init` for `ROTORID_KIND_EXTENDED_LOCAL`, linking that kind only.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_init_extended_local(void *storage,
+                                    size_t storage_size,
+                                    const rotorid_config_t *config,
+                                    const rotorid_flight_sets_t *sets,
+                                    rotorid_ident_t **handle,
+                                    rotorid_error_t *error);
+
+/**
+ * Storage bytes an identifier of `kind` needs (0 for an unknown kind).
+ */
+size_t rotorid_storage_size(uint32_t kind);
+
+/**
+ * Bytes of an export of `kind` (0 for an unknown kind).
+ */
+size_t rotorid_export_size(uint32_t kind);
+
+/**
  * Table 2's sweep for `channel` (`ROTORID_CHANNEL_*`) with amplitude A (stick units), the
  * paper's C1 and C2, 3 s trim pads, half amplitude at ω_min rising to full at 2·ω_min.
  *
@@ -851,6 +980,32 @@ int32_t rotorid_schedule_at(const rotorid_schedule_t *schedule,
                             uint32_t *channel,
                             double *offset,
                             rotorid_error_t *error);
+
+/**
+ * The flight settings (`rotorid::HoverConfig::default()`): U-D RLS, α = 10⁶, λ = 1,
+ * helicopter scaling, 50 Hz ± 50 %. Returns `ROTORID_E_NULL` when `out` is NULL.
+ *
+ * # Safety
+ * `out` is NULL or points to a writable `rotorid_config_t`.
+ */
+int32_t rotorid_config_default(rotorid_config_t *out);
+
+/**
+ * The paper's settings (`rotorid::HoverConfig::paper()`): covariance-form RLS, α = 10⁶,
+ * λ = 1, no scaling, 50 Hz ± 50 %.
+ *
+ * # Safety
+ * As `rotorid_config_default`.
+ */
+int32_t rotorid_config_paper(rotorid_config_t *out);
+
+/**
+ * The default forward-speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
+ *
+ * # Safety
+ * `out` is NULL or points to a writable `rotorid_flight_sets_t`.
+ */
+int32_t rotorid_flight_sets_default(rotorid_flight_sets_t *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -49,11 +49,13 @@ impl<'a> Out<'a> {
     }
 
     fn word(&mut self, w: [u8; 4]) {
-        let end = self.at.saturating_add(4);
-        if let Some(dst) = self.bytes.get_mut(self.at..end) {
-            dst.copy_from_slice(&w);
+        // Byte by byte: `copy_from_slice` would keep a length-mismatch panic path.
+        if let Some(dst) = self.bytes.get_mut(self.at..) {
+            for (d, s) in dst.iter_mut().zip(w) {
+                *d = s;
+            }
         }
-        self.at = end;
+        self.at = self.at.saturating_add(4);
     }
 }
 

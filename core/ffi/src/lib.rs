@@ -15,6 +15,7 @@
 //!   buffer, ...); [`rotorid_error_t`] gives the detail. A call that fails changes nothing.
 //! - **Export/import**: a documented byte format (see [`export`]) for warm starts.
 //! - **Sweeps**: Table 2's frequency sweeps and their schedule ([`sweep`]).
+//! - **Frames**: samples from NED velocity and FRD rates in rad/s ([`frames`]).
 //!
 //! No panic: the library holds no `unwrap`, no unchecked index and no arithmetic that can
 //! overflow (clippy denies them); on `no_std` targets the panic handler is an endless loop
@@ -36,15 +37,21 @@
 )]
 #![warn(missing_docs)]
 
+pub mod calls;
 pub mod error;
 pub mod export;
-pub mod identifier;
+pub mod frames;
+pub mod handle;
+pub mod kinds;
 pub mod sweep;
 pub mod types;
 
+pub use calls::*;
 pub use error::*;
 pub use export::*;
-pub use identifier::*;
+pub use frames::*;
+pub use handle::*;
+pub use kinds::*;
 pub use sweep::*;
 pub use types::*;
 

@@ -2,9 +2,14 @@
 //! flight identifier's premise sets. Units and axes are the core's (see `rotorid::hover`): the
 //! paper's inertial axes (x east, y up, z south), body rates `[q r p]` in deg/s.
 
-use rotorid::hover::{Attitude, Controls, HoverSample, HoverState, RegressorScaling, StepOutput};
+use rotorid::hover::{
+    flight_sets, Attitude, Controls, HoverSample, HoverState, RegressorScaling, StepOutput,
+};
 use rotorid::rls::{Algorithm, RlsConfig};
 use rotorid::{Error, HoverConfig, Quantity};
+
+use crate::error::report;
+use crate::handle::put;
 
 /// One measurement sample at time step k.
 #[repr(C)]
@@ -188,4 +193,55 @@ pub struct rotorid_flight_sets_t {
     pub centre: [f32; 3],
     /// Spreads σ of the same sets (m/s, > 0).
     pub spread: [f32; 3],
+}
+
+/// The flight settings (`rotorid::HoverConfig::default()`): U-D RLS, α = 10⁶, λ = 1,
+/// helicopter scaling, 50 Hz ± 50 %. Returns `ROTORID_E_NULL` when `out` is NULL.
+///
+/// # Safety
+/// `out` is NULL or points to a writable `rotorid_config_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_config_default(out: *mut rotorid_config_t) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        report(
+            put(out, HoverConfig::<f32>::default().into()),
+            core::ptr::null_mut(),
+        )
+    }
+}
+
+/// The paper's settings (`rotorid::HoverConfig::paper()`): covariance-form RLS, α = 10⁶,
+/// λ = 1, no scaling, 50 Hz ± 50 %.
+///
+/// # Safety
+/// As `rotorid_config_default`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_config_paper(out: *mut rotorid_config_t) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        report(
+            put(out, HoverConfig::<f32>::paper().into()),
+            core::ptr::null_mut(),
+        )
+    }
+}
+
+/// The default forward-speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
+///
+/// # Safety
+/// `out` is NULL or points to a writable `rotorid_flight_sets_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_flight_sets_default(out: *mut rotorid_flight_sets_t) -> i32 {
+    let mut sets = rotorid_flight_sets_t {
+        centre: [0.0; 3],
+        spread: [0.0; 3],
+    };
+    for (i, mf) in flight_sets::<f32>().iter().enumerate() {
+        if let (Some(c), Some(s)) = (sets.centre.get_mut(i), sets.spread.get_mut(i)) {
+            (*c, *s) = mf.parameters();
+        }
+    }
+    // SAFETY: the caller's contract.
+    unsafe { report(put(out, sets), core::ptr::null_mut()) }
 }

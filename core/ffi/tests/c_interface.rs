@@ -344,6 +344,15 @@ fn c_host_program_matches_rotorid_bit_for_bit() {
         .arg(&program));
     let report = run(&mut Command::new(&program));
     assert_eq!(report, expected(&flight, false));
+    // The documentation's example compiles as it stands.
+    run(Command::new("cc")
+        .args(C_FLAGS)
+        .arg("-c")
+        .arg("-I")
+        .arg(crate_dir().join("include"))
+        .arg(c.join("example.c"))
+        .arg("-o")
+        .arg(dir.join("example.o")));
 }
 
 #[test]
@@ -370,7 +379,8 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
                 "-mfpu=fpv4-sp-d16",
             ])
             .args(C_FLAGS)
-            .args(["-ffreestanding", "-nostdlib", define, "-ffunction-sections"])
+            .args(["-ffreestanding", "-nostdlib", "-ffunction-sections"])
+            .args(define.split(' '))
             .args(["-Wl,--gc-sections", "-z", "noexecstack"])
             .arg("-I")
             .arg(crate_dir().join("include"))
@@ -410,14 +420,46 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         assert_eq!(stack.len(), 1, "no stack report in {report}");
         (stack.concat(), rest.join("\n") + "\n")
     };
-    let (stack, report) = split(&firmware("-DDRIVE_SMALL", &dir.join("firmware.elf")));
+    let elf = dir.join("firmware.elf");
+    let (stack, report) = split(&firmware("-DDRIVE_SMALL", &elf));
     eprintln!("C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes");
     assert_eq!(report, expected(&flight, true));
-    // The stack each kind needs on its own (everything else in the firmware is the same).
-    for kind in [1, 2, 3, 4, 6, 7, 8] {
+    // No panic path: the library's every function in the firmware, by the static call graph.
+    let script = crate_dir().join("../../scripts/no_panic.py");
+    let panics = run_both(
+        Command::new("python3")
+            .arg(script)
+            .arg(&elf)
+            .arg("--strict"),
+    );
+    assert!(panics.0.starts_with("0 of our functions"), "{}", panics.0);
+    // Each kind on its own, through its own init (which links that kind's code only): the
+    // stack it needs and the flash it takes (text without the flight's data).
+    let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
+    let inits = [
+        (1, "flight"),
+        (2, "flight_plain"),
+        (3, "paper_fuzzy"),
+        (4, "paper_plain"),
+        (6, "extended_plain"),
+        (7, "paper_local"),
+        (8, "extended_local"),
+    ];
+    for (kind, name) in inits {
         let elf = dir.join(format!("kind{kind}.elf"));
-        let (stack, report) = split(&firmware(&format!("-DDRIVE_ONLY={kind}"), &elf));
+        let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
+        let (stack, report) = split(&firmware(&only, &elf));
         assert!(report.contains(&format!("kind {kind} steps")), "{report}");
-        eprintln!("C firmware, kind {kind} only: {stack} bytes");
+        let size = run(Command::new("arm-none-eabi-size").arg(&elf));
+        let text: usize = size
+            .lines()
+            .nth(1)
+            .and_then(|l| l.split_whitespace().next())
+            .and_then(|t| t.parse().ok())
+            .unwrap();
+        eprintln!(
+            "C firmware, rotorid_init_{name} only: {stack} bytes, text {} bytes",
+            text - flight_bytes
+        );
     }
 }

@@ -2,7 +2,7 @@
 
 use core::fmt::Write as _;
 
-use mavlink_core::{MAVLinkV2MessageRaw, MavHeader, MessageData};
+use mavlink_core::MessageData;
 use rotorid::convergence::ConvergenceStatus;
 use rotorid::Error;
 
@@ -51,15 +51,18 @@ impl Encoder {
     /// (`MAV_TYPE_ONBOARD_CONTROLLER`, `MAV_AUTOPILOT_INVALID`), `custom_mode` 0, status as given
     /// (`MAV_STATE_ACTIVE` while identifying, `MAV_STATE_CRITICAL` after a fault).
     pub fn heartbeat(&mut self, status: MavState, out: &mut [u8]) -> Result<usize, EncodeError> {
-        let data = HEARTBEAT_DATA {
-            custom_mode: 0,
-            mavtype: MavType::MAV_TYPE_ONBOARD_CONTROLLER,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
-            base_mode: MavModeFlag::empty(),
-            system_status: status,
-            mavlink_version: 3,
-        };
-        self.frame(&data, out)
+        // Fields in MAVLink wire order: custom_mode, type, autopilot, base_mode, system_status,
+        // mavlink_version.
+        let mut p = Payload::<{ HEARTBEAT_DATA::ENCODED_LEN }>::new();
+        p.put(&0u32.to_le_bytes());
+        p.put(&[
+            MavType::MAV_TYPE_ONBOARD_CONTROLLER as u8,
+            MavAutopilot::MAV_AUTOPILOT_INVALID as u8,
+            MavModeFlag::empty().bits(),
+            status as u8,
+            3,
+        ]);
+        self.frame::<HEARTBEAT_DATA, _>(p, out)
     }
 
     /// `DEBUG_FLOAT_ARRAY` (id 350) of one accepted step of `ident` on the sample stamped
@@ -172,13 +175,12 @@ impl Encoder {
         let mut text = Text::default();
         // Text::write_str never fails: it stops at the end of the field.
         let _ = write!(text, "{}: {}", ident.tag(), error);
-        let data = STATUSTEXT_DATA {
-            severity: MavSeverity::MAV_SEVERITY_WARNING,
-            text: text.bytes.into(),
-            id: 0,
-            chunk_seq: 0,
-        };
-        self.frame(&data, out)
+        // severity, text, then the extensions id (0: not chunked) and chunk_seq.
+        let mut p = Payload::<{ STATUSTEXT_DATA::ENCODED_LEN }>::new();
+        p.put(&[MavSeverity::MAV_SEVERITY_WARNING as u8]);
+        p.put(&text.bytes);
+        p.put(&[0, 0, 0]);
+        self.frame::<STATUSTEXT_DATA, _>(p, out)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -197,13 +199,15 @@ impl Encoder {
             kind,
             chunk,
         };
-        let msg = DEBUG_FLOAT_ARRAY_DATA {
-            time_usec: time_us,
-            array_id: id.to_u16(),
-            name: name.bytes.into(),
-            data,
-        };
-        self.frame(&msg, out)
+        // time_usec, array_id, name, then the extension data.
+        let mut p = Payload::<{ DEBUG_FLOAT_ARRAY_DATA::ENCODED_LEN }>::new();
+        p.put(&time_us.to_le_bytes());
+        p.put(&id.to_u16().to_le_bytes());
+        p.put(&name.bytes);
+        for x in data {
+            p.put(&x.to_le_bytes());
+        }
+        self.frame::<DEBUG_FLOAT_ARRAY_DATA, _>(p, out)
     }
 
     fn named(
@@ -213,33 +217,94 @@ impl Encoder {
         value: f32,
         out: &mut [u8],
     ) -> Result<usize, EncodeError> {
-        let msg = NAMED_VALUE_FLOAT_DATA {
-            time_boot_ms,
-            value,
-            name: name.bytes.into(),
-        };
-        self.frame(&msg, out)
+        // time_boot_ms, value, name.
+        let mut p = Payload::<{ NAMED_VALUE_FLOAT_DATA::ENCODED_LEN }>::new();
+        p.put(&time_boot_ms.to_le_bytes());
+        p.put(&value.to_le_bytes());
+        p.put(&name.bytes);
+        self.frame::<NAMED_VALUE_FLOAT_DATA, _>(p, out)
     }
 
-    fn frame<D: MessageData>(&mut self, data: &D, out: &mut [u8]) -> Result<usize, EncodeError> {
-        let header = MavHeader {
-            system_id: u32::from(self.system_id),
-            component_id: self.component_id,
-            sequence: self.sequence,
-        };
-        let mut raw = MAVLinkV2MessageRaw::new();
-        raw.serialize_message_data(header, data);
-        let bytes = raw.raw_bytes();
-        let available = out.len();
-        let dst = out
-            .get_mut(..bytes.len())
-            .ok_or(EncodeError::BufferTooSmall {
-                needed: bytes.len(),
-                available,
-            })?;
-        dst.copy_from_slice(bytes);
+    /// Writes one unsigned MAVLink 2 frame of message `D` around `payload`: STX, length,
+    /// incompatibility and compatibility flags (0), sequence, system, component, the 3-byte
+    /// message id, the payload without its trailing zero bytes (at least one byte, as MAVLink
+    /// 2 truncates), and the CRC-16/MCRF4XX of everything after STX plus `D`'s CRC_EXTRA.
+    ///
+    /// Written here rather than with `mavlink-core`'s serializer, whose bounds checks and
+    /// asserts would put panic paths on the firmware's flight path (`scripts/no_panic.py`);
+    /// `tests/encode.rs` checks these bytes against that serializer's.
+    fn frame<D: MessageData, const N: usize>(
+        &mut self,
+        payload: Payload<N>,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
+        const { assert!(N >= 1 && N <= 255) };
+        let body = payload.bytes;
+        let len = body.iter().rposition(|&b| b != 0).map_or(1, |i| i + 1);
+        let needed = HEADER_LEN + len + 2;
+        if out.len() < needed {
+            return Err(EncodeError::BufferTooSmall {
+                needed,
+                available: out.len(),
+            });
+        }
+        let [id0, id1, id2, _] = D::ID.to_le_bytes();
+        let header = [
+            MAVLINK_V2_STX,
+            len as u8,
+            0,
+            0,
+            self.sequence,
+            self.system_id,
+            self.component_id,
+            id0,
+            id1,
+            id2,
+        ];
+        let body = body.get(..len).unwrap_or(&[]);
+        let mut crc = X25.digest();
+        crc.update(header.get(1..).unwrap_or(&[]));
+        crc.update(body);
+        crc.update(&[D::EXTRA_CRC]);
+        let crc = crc.finalize().to_le_bytes();
+        let frame = header.iter().chain(body).chain(&crc);
+        for (dst, src) in out.iter_mut().zip(frame) {
+            *dst = *src;
+        }
         self.sequence = self.sequence.wrapping_add(1);
-        Ok(bytes.len())
+        Ok(needed)
+    }
+}
+
+/// MAVLink 2's start byte.
+const MAVLINK_V2_STX: u8 = 0xFD;
+/// STX and the nine header bytes of an unsigned MAVLink 2 frame.
+const HEADER_LEN: usize = 10;
+/// MAVLink's checksum: CRC-16/MCRF4XX ("X.25" in the MAVLink docs).
+const X25: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_MCRF4XX);
+
+/// A message's payload being filled in wire order (bytes past the end are dropped; every
+/// payload here is written with exactly its message's length).
+struct Payload<const N: usize> {
+    bytes: [u8; N],
+    len: usize,
+}
+
+impl<const N: usize> Payload<N> {
+    fn new() -> Self {
+        Self {
+            bytes: [0; N],
+            len: 0,
+        }
+    }
+
+    fn put(&mut self, src: &[u8]) {
+        for &b in src {
+            if let Some(d) = self.bytes.get_mut(self.len) {
+                *d = b;
+                self.len += 1;
+            }
+        }
     }
 }
 

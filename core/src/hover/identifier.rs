@@ -1,101 +1,10 @@
 //! The hover identifier: one translational and three angular models fed one sample at a time.
 
-use crate::error::{ConfigError, Error};
-use crate::hover::models::{
-    BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel, VelocityModel,
-    VelocityStructure,
-};
+use crate::error::Error;
+use crate::hover::config::{HoverConfig, RegressorScaling};
+use crate::hover::models::{BodyFrame, StateModel};
 use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
-use crate::hover::table3;
-use crate::learning::TsEstimator;
-use crate::local::LocalTsRls;
-use crate::rls::RlsConfig;
-use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
-use crate::ts::{Scaling, TsRls};
-
-/// Whether the models divide their terms by nominal scales (see [`crate::ts::Scaling`]).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum RegressorScaling {
-    /// Raw physical units, as the paper: bit-identical to an implementation without scaling.
-    None,
-    /// The nominal miniature-helicopter scales of
-    /// [`VelocityStructure::helicopter_scaling`] and [`RateStructure::helicopter_scaling`]:
-    /// a well-conditioned problem in f32. Parameters are still reported in physical units by
-    /// [`TsRls::physical_parameter`](crate::TsRls::physical_parameter).
-    Helicopter,
-}
-
-/// Settings shared by the four models of a [`HoverIdentifier`].
-#[derive(Copy, Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct HoverConfig<T> {
-    /// Estimator settings of every model.
-    pub rls: RlsConfig<T>,
-    /// Nominal sample period ΔT (µs). The identified parameters are per-step quantities
-    /// (Eqs. 22–25 contain ΔT), so a model is only valid at the rate it was learnt at.
-    pub sample_period_us: u32,
-    /// Accepted deviation of one interval from ΔT (µs), for timing jitter.
-    pub period_tolerance_us: u32,
-    /// Regressor scaling of every model.
-    pub scaling: RegressorScaling,
-}
-
-impl<T: Real> Default for HoverConfig<T> {
-    /// The flight settings: robust (U-D) RLS with α = 10⁶, helicopter regressor scaling,
-    /// 50 Hz (20 000 µs) ± 50 %.
-    fn default() -> Self {
-        Self {
-            rls: RlsConfig::default(),
-            sample_period_us: 20_000,
-            period_tolerance_us: 10_000,
-            scaling: RegressorScaling::Helicopter,
-        }
-    }
-}
-
-impl<T: Real> HoverConfig<T> {
-    /// The paper's settings: covariance-form RLS, λ = 1, α = 10⁶, no scaling, 50 Hz ± 50 %.
-    pub fn paper() -> Self {
-        Self {
-            rls: RlsConfig::paper(T::lit(1e6)),
-            scaling: RegressorScaling::None,
-            ..Self::default()
-        }
-    }
-
-    /// The paper's estimator computed robustly: U-D RLS, α = 10⁶, no scaling.
-    pub fn paper_robust() -> Self {
-        Self {
-            scaling: RegressorScaling::None,
-            ..Self::default()
-        }
-    }
-
-    pub(crate) fn velocity_scaling<const D: usize>(&self, s: VelocityStructure) -> Scaling<T, D> {
-        match self.scaling {
-            RegressorScaling::None => Scaling::unit(),
-            RegressorScaling::Helicopter => s.helicopter_scaling(),
-        }
-    }
-
-    pub(crate) fn rate_scaling<const D: usize>(&self, s: RateStructure) -> Scaling<T, D> {
-        match self.scaling {
-            RegressorScaling::None => Scaling::unit(),
-            RegressorScaling::Helicopter => s.helicopter_scaling(),
-        }
-    }
-
-    fn validate(&self) -> Result<(), Error> {
-        self.rls.validate()?;
-        if self.sample_period_us == 0 || self.period_tolerance_us >= self.sample_period_us {
-            return Err(ConfigError::SamplePeriod.into());
-        }
-        Ok(())
-    }
-}
 
 /// What one [`HoverIdentifier::step`] reports.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -126,36 +35,36 @@ pub struct HoverSnapshot<V, Q, R, P> {
 /// learns all four models from the previous sample to this one, and predicts the next.
 ///
 /// `V` is the translational model, `Q`, `R`, `P` the q̂, r̂, p̂ models. The paper's two
-/// configurations are the aliases [`PaperFuzzyIdentifier`] and [`PaperPlainIdentifier`]; since
+/// configurations are the aliases [`PaperFuzzyIdentifier`](super::PaperFuzzyIdentifier) and [`PaperPlainIdentifier`](super::PaperPlainIdentifier); since
 /// they share this API, Table 4's comparison is a change of type.
 ///
 /// Every call that returns `Err` leaves the identifier exactly as it was.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HoverIdentifier<T, V, Q, R, P> {
-    velocity: V,
-    pitch: Q,
-    yaw: R,
-    roll: P,
+    pub(super) velocity: V,
+    pub(super) pitch: Q,
+    pub(super) yaw: R,
+    pub(super) roll: P,
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
-    timing: Timing,
+    pub(super) timing: Timing,
     /// The end of the current sample chain (how much of it is valid: `timing.links`).
-    chain: Chain<T>,
+    pub(super) chain: Chain<T>,
 }
 
 /// The end of a sample chain: the sample the next step learns from, its body frame, and the
 /// body rates `[q r p]` of the sample before it (for second-order rate terms,
-/// [`RateStructure::Flight`]). Kept without `Option`s, the count of valid links living in
+/// [`RateStructure::Flight`](super::RateStructure::Flight)). Kept without `Option`s, the count of valid links living in
 /// [`Timing`]'s padding, so that the paper fuzzy identifier stays within 11 KiB.
 #[derive(Copy, Clone, Debug, PartialEq)]
-struct Chain<T> {
+pub(super) struct Chain<T> {
     sample: HoverSample<T>,
     frame: BodyFrame<T>,
     before: [T; 3],
 }
 
 impl<T: Real> Chain<T> {
-    fn empty() -> Self {
+    pub(super) fn empty() -> Self {
         Self {
             sample: HoverSample::default(),
             frame: BodyFrame::identity(),
@@ -164,120 +73,10 @@ impl<T: Real> Chain<T> {
     }
 }
 
-/// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
-/// 54 + 36 + 18 + 18 parameters.
-pub type PaperFuzzyIdentifier<T> = HoverIdentifier<
-    T,
-    GlobalVelocityModel<T, 27, 2, 54, 1485>,
-    GlobalRateModel<T, 18, 2, 36, 666>,
-    GlobalRateModel<T, 9, 2, 18, 171>,
-    GlobalRateModel<T, 9, 2, 18, 171>,
->;
-
-/// The paper's plain-RLS baseline (Eqs. 19 and 26): the same models with a single rule.
-pub type PaperPlainIdentifier<T> = HoverIdentifier<
-    T,
-    GlobalVelocityModel<T, 1, 2, 2, 3>,
-    GlobalRateModel<T, 1, 2, 2, 3>,
-    GlobalRateModel<T, 1, 2, 2, 3>,
-    GlobalRateModel<T, 1, 2, 2, 3>,
->;
-
-/// The extended structure (damping and trim terms, [`RateStructure::Extended`],
-/// [`VelocityStructure::Extended`]) with fuzzy rule bases: Table 3's sets for the rates
-/// (18, 9, 9 rules × 5 terms) and Table 3's `ṽ_y` sets for the velocity (3 rules × 7 terms;
-/// the thrust per unit collective varies with the vertical inflow, while drag is linear).
-pub type ExtendedFuzzyIdentifier<T> = HoverIdentifier<
-    T,
-    GlobalVelocityModel<T, 3, 7, 21, 231>,
-    GlobalRateModel<T, 18, 5, 90, 4095>,
-    GlobalRateModel<T, 9, 5, 45, 1035>,
-    GlobalRateModel<T, 9, 5, 45, 1035>,
->;
-
-/// The extended structure with a single rule per model (a linear model with damping and trim).
-pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
-    T,
-    GlobalVelocityModel<T, 1, 7, 7, 28>,
-    GlobalRateModel<T, 1, 5, 5, 15>,
-    GlobalRateModel<T, 1, 5, 5, 15>,
-    GlobalRateModel<T, 1, 5, 5, 15>,
->;
-
-/// The paper's structure and Table 3's sets, every rule learnt locally (see
-/// [`crate::local`]): 27 + 18 + 9 + 9 rules of 2 terms.
-pub type PaperLocalIdentifier<T> = HoverIdentifier<
-    T,
-    LocalVelocityModel<T, 27, 2, 3>,
-    LocalRateModel<T, 18, 2, 3>,
-    LocalRateModel<T, 9, 2, 3>,
-    LocalRateModel<T, 9, 2, 3>,
->;
-
-/// [`ExtendedFuzzyIdentifier`]'s structure and sets, every rule learnt locally.
-pub type ExtendedLocalIdentifier<T> = HoverIdentifier<
-    T,
-    LocalVelocityModel<T, 3, 7, 28>,
-    LocalRateModel<T, 18, 5, 15>,
-    LocalRateModel<T, 9, 5, 15>,
-    LocalRateModel<T, 9, 5, 15>,
->;
-
-/// **The identifier to fly**: the extended structure, each model scheduled on the forward
-/// speed (the heading-frame velocity of [`Premise::HeadingVelocity`], sets on its first
-/// component only) with three rules learnt locally. See [`FlightIdentifier::flight`] and
-/// [`flight_sets`].
-///
-/// Why (docs/results.md has the evidence): a helicopter's rate and velocity dynamics change
-/// mainly with airspeed, so that is what the rules are scheduled on; local learning makes
-/// each rule a local linear model that stays sane where it is rarely visited; three rules of
-/// 7 and 5 terms keep the step cheap and the identifier small (f32: under 3 KiB).
-pub type FlightIdentifier<T> = HoverIdentifier<
-    T,
-    LocalVelocityModel<T, 3, 7, 28>,
-    LocalRateModel<T, 3, 7, 28>,
-    LocalRateModel<T, 3, 7, 28>,
-    LocalRateModel<T, 3, 7, 28>,
->;
-
-/// [`FlightIdentifier`]'s terms with one rule per model (local learning of one rule is the
-/// global one, bit for bit): the baseline that shows what the rules themselves add.
-pub type FlightPlainIdentifier<T> = HoverIdentifier<
-    T,
-    LocalVelocityModel<T, 1, 7, 28>,
-    LocalRateModel<T, 1, 7, 28>,
-    LocalRateModel<T, 1, 7, 28>,
-    LocalRateModel<T, 1, 7, 28>,
->;
-
-/// The default forward-speed sets of [`FlightIdentifier`] (m/s): a left shoulder at hover
-/// (c = 0, σ = 2.5; it also takes backward flight), a Gaussian at 5 m/s (σ = 2.5) and a right
-/// shoulder from 10 m/s (σ = 2.5): a miniature helicopter's low-speed envelope in three
-/// regions that overlap at about μ = 0.6. For another aircraft or envelope, place them from a
-/// training flight with [`crate::premise::quantile_sets`] (`rotorid identify` does).
-pub fn flight_sets<T: Real>() -> PremiseSets<T> {
-    table3::three_sets((0.0, 2.5), (5.0, 2.5), (10.0, 2.5))
-}
-
-/// A translational model learnt globally (the paper's RLS over `N = R·D` parameters, `NP`
-/// packed covariance entries).
-pub type GlobalVelocityModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
-    VelocityModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
-/// An angular model learnt globally.
-pub type GlobalRateModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
-    RateModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
-/// A translational model learnt locally (each of the `R` rules its own RLS of `DP = D(D+1)/2`
-/// packed covariance entries).
-pub type LocalVelocityModel<T, const R: usize, const D: usize, const DP: usize> =
-    VelocityModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
-/// An angular model learnt locally.
-pub type LocalRateModel<T, const R: usize, const D: usize, const DP: usize> =
-    RateModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
-
 /// [`HoverConfig`] less the RLS settings, which each model keeps (not stored twice: the
 /// identifier's `size_of` is held to 11 KiB).
 #[derive(Copy, Clone, Debug, PartialEq)]
-struct Timing {
+pub(super) struct Timing {
     sample_period_us: u32,
     period_tolerance_us: u32,
     scaling: RegressorScaling,
@@ -287,227 +86,13 @@ struct Timing {
 }
 
 impl Timing {
-    fn of<T>(config: &HoverConfig<T>) -> Self {
+    pub(super) fn of<T>(config: &HoverConfig<T>) -> Self {
         Self {
             sample_period_us: config.sample_period_us,
             period_tolerance_us: config.period_tolerance_us,
             scaling: config.scaling,
             links: 0,
         }
-    }
-}
-
-/// The premises of the four models (translational, q̂, r̂, p̂).
-#[derive(Copy, Clone)]
-struct Premises {
-    velocity: Premise,
-    rates: Premise,
-}
-
-impl Premises {
-    /// The paper's: `v^s` for the velocity, `[q r p]` for the rates.
-    const PAPER: Self = Self {
-        velocity: Premise::Velocity,
-        rates: Premise::Rates,
-    };
-}
-
-/// Builds the four models of an identifier from rule bases, structures and premises.
-#[allow(clippy::type_complexity)]
-fn build<
-    T: Real,
-    const RV: usize,
-    const DV: usize,
-    const RQ: usize,
-    const RR: usize,
-    const RP: usize,
-    const DA: usize,
-    EV: TsEstimator<T, 3, RV, DV>,
-    EQ: TsEstimator<T, 3, RQ, DA>,
-    ER: TsEstimator<T, 3, RR, DA>,
-    EP: TsEstimator<T, 3, RP, DA>,
->(
-    config: HoverConfig<T>,
-    rules: (
-        RuleBase<T, 3, RV>,
-        RuleBase<T, 3, RQ>,
-        RuleBase<T, 3, RR>,
-        RuleBase<T, 3, RP>,
-    ),
-    velocity: VelocityStructure,
-    rate: RateStructure,
-    premises: Premises,
-) -> Result<
-    HoverIdentifier<
-        T,
-        VelocityModel<T, RV, DV, EV>,
-        RateModel<T, RQ, DA, EQ>,
-        RateModel<T, RR, DA, ER>,
-        RateModel<T, RP, DA, EP>,
-    >,
-    Error,
-> {
-    let c = config.rls;
-    let rs = config.rate_scaling::<DA>(rate);
-    let vs = config.velocity_scaling::<DV>(velocity);
-    let (pv, pr) = (premises.velocity, premises.rates);
-    // Everything is checked first; then the identifier is built as one expression from
-    // inlined infallible constructors, so the compiler writes the ~11 KB of arrays straight
-    // into the result instead of moving models through the stack.
-    config.validate()?;
-    VelocityModel::<T, RV, DV, EV>::check_new(velocity, &c, &vs)?;
-    RateModel::<T, RQ, DA, EQ>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RR, DA, ER>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RP, DA, EP>::check_new(rate, &c, &rs)?;
-    Ok(HoverIdentifier {
-        velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, pv, c, vs),
-        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rs),
-        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rs),
-        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rs),
-        timing: Timing::of(&config),
-        chain: Chain::empty(),
-    })
-}
-
-impl<T: Real> PaperFuzzyIdentifier<T> {
-    /// The paper's fuzzy identifier: Eqs. 27–30 with Table 3's sets.
-    pub fn paper_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> PaperPlainIdentifier<T> {
-    /// The paper's plain-RLS baseline: Eqs. 19 and 26, one rule per model.
-    pub fn paper_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        let rules = (one()?, one()?, one()?, one()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> ExtendedFuzzyIdentifier<T> {
-    /// The extended fuzzy identifier (see [`ExtendedFuzzyIdentifier`]).
-    pub fn extended_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::vertical_velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> ExtendedPlainIdentifier<T> {
-    /// The extended single-rule identifier (see [`ExtendedPlainIdentifier`]).
-    pub fn extended_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        let rules = (one()?, one()?, one()?, one()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> PaperLocalIdentifier<T> {
-    /// The paper's structure and sets, learnt locally.
-    pub fn paper_local(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> ExtendedLocalIdentifier<T> {
-    /// The extended structure with [`ExtendedFuzzyIdentifier`]'s sets, learnt locally.
-    pub fn extended_local(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::vertical_velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
-        )
-    }
-}
-
-impl<T: Real> FlightIdentifier<T> {
-    /// The flight identifier with the given forward-speed sets (m/s; three sets, e.g. from
-    /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models.
-    pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
-        let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
-        let rules = (base()?, base()?, base()?, base()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Flight,
-            RateStructure::Flight,
-            Premises {
-                velocity: Premise::HeadingVelocity,
-                rates: Premise::HeadingVelocity,
-            },
-        )
-    }
-}
-
-impl<T: Real> FlightPlainIdentifier<T> {
-    /// [`FlightIdentifier`]'s terms and premise with a single rule per model.
-    pub fn flight_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        build(
-            config,
-            (one()?, one()?, one()?, one()?),
-            VelocityStructure::Flight,
-            RateStructure::Flight,
-            Premises {
-                velocity: Premise::HeadingVelocity,
-                rates: Premise::HeadingVelocity,
-            },
-        )
     }
 }
 
@@ -644,7 +229,7 @@ where
 
     /// One-step prediction of the state after `sample`, given the state of the sample before
     /// it (`before`: measured, or the model's own estimate in a simulation; `None` at the
-    /// start of a chain). Only second-order terms ([`RateStructure::Flight`]) read it.
+    /// start of a chain). Only second-order terms ([`RateStructure::Flight`](super::RateStructure::Flight)) read it.
     /// Changes nothing.
     pub fn predict_after(
         &self,

@@ -15,19 +15,22 @@
 //! sample at step k and learns the increment `y(k+1) − y(k)` (the coefficient of the state
 //! itself is fixed at 1).
 
+mod config;
 mod identifier;
 mod models;
 mod sample;
 pub mod table3;
+mod variants;
 
-pub use identifier::{
-    flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
-    FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, HoverConfig,
-    HoverIdentifier, HoverSnapshot, LocalRateModel, LocalVelocityModel, PaperFuzzyIdentifier,
-    PaperLocalIdentifier, PaperPlainIdentifier, RegressorScaling, StepOutput,
-};
+pub use config::{HoverConfig, RegressorScaling};
+pub use identifier::{HoverIdentifier, HoverSnapshot, StepOutput};
 pub use models::{
     right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
     VelocityModel, VelocityStructure,
 };
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
+pub use variants::{
+    flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,
+    LocalVelocityModel, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+};

@@ -16,7 +16,7 @@ mod mavlink_port;
 
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
-use firmware_ident::step_cost::{self, StepCost, Timer};
+use firmware_example::step_cost::{self, StepCost, Timer};
 
 struct SysTickTimer(board::Stopwatch);
 

@@ -1,5 +1,5 @@
-//! Onboard identification (firmware-example): the two identifiers and the handlers of the identification
-//! messages (board-agnostic, like firmware-example's `link` module).
+//! Onboard identification: the two identifiers and the handlers of the identification
+//! messages (board-agnostic, like the `link` module).
 //!
 //! * `Sample` → `Estimate`: one sample stepped through the fuzzy identifier (U-D default or
 //!   the paper's covariance form, chosen by `Reset`) and the plain baseline, each timed.
@@ -16,10 +16,6 @@
 //!   mid-import) resets the fuzzy identifier, so it never runs with a mix of old and new
 //!   models (see `docs/protocol.md`).
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
-
-#![no_std]
-
-pub mod step_cost;
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
@@ -49,11 +45,11 @@ struct ImportStage {
 
 /// Everything the identification messages act on.
 ///
-/// Lives in a static and is built in place ([`Engine::take`]): a `PaperFuzzyIdentifier<f32>`
+/// Lives in a static and is built in place ([`Identification::take`]): a `PaperFuzzyIdentifier<f32>`
 /// is 11 KiB, and every by-value move of one during construction would cost that much stack.
 /// The identifiers are kept as the `Result`s their constructors returned (always `Ok` after
-/// a successful [`Engine::take`]) so that they never have to be moved out.
-pub struct Engine {
+/// a successful [`Identification::take`]) so that they never have to be moved out.
+pub struct Identification {
     fuzzy: Result<PaperFuzzyIdentifier<f32>, Error>,
     plain: Result<PaperPlainIdentifier<f32>, Error>,
     form: RlsForm,
@@ -110,7 +106,7 @@ fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
 
 /// Stores byte `pos` of one model's stream (algorithm u8, updates u32, θ, factor as f32).
 /// Not generic: one copy serves all four model sizes.
-fn put(
+fn store_state_byte(
     (algorithm, updates, theta, factor): (
         &mut rotorid::Algorithm,
         &mut u32,
@@ -183,7 +179,7 @@ fn build_plain(
 }
 
 static ENGINE_TAKEN: AtomicBool = AtomicBool::new(false);
-static mut ENGINE: MaybeUninit<Engine> = MaybeUninit::uninit();
+static mut ENGINE: MaybeUninit<Identification> = MaybeUninit::uninit();
 
 fn config(form: RlsForm) -> HoverConfig<f32> {
     match form {
@@ -217,15 +213,15 @@ fn ticks32(t: u64) -> u32 {
     u32::try_from(t).unwrap_or(u32::MAX)
 }
 
-impl Engine {
+impl Identification {
     /// The engine, built in its static home with the default (U-D) form; `None` on a second
     /// call or if the core refuses the configuration.
-    pub fn take() -> Option<&'static mut Engine> {
+    pub fn take() -> Option<&'static mut Identification> {
         if ENGINE_TAKEN.swap(true, Ordering::AcqRel) {
             return None;
         }
         // SAFETY: the flag above hands out the one `&'static mut` exactly once.
-        let slot: &'static mut MaybeUninit<Engine> =
+        let slot: &'static mut MaybeUninit<Identification> =
             unsafe { &mut *core::ptr::addr_of_mut!(ENGINE) };
         let p = slot.as_mut_ptr();
         let c = config(RlsForm::UdDefault);
@@ -360,16 +356,16 @@ impl Engine {
     pub fn params(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
         match (ident, &self.fuzzy, &self.plain) {
             (Ident::Plain, _, Ok(p)) => {
-                dump(out, ident, 0, p.velocity_model().ts().rls());
-                dump(out, ident, 1, p.pitch_model().ts().rls());
-                dump(out, ident, 2, p.yaw_model().ts().rls());
-                dump(out, ident, 3, p.roll_model().ts().rls());
+                send_model_params(out, ident, 0, p.velocity_model().ts().rls());
+                send_model_params(out, ident, 1, p.pitch_model().ts().rls());
+                send_model_params(out, ident, 2, p.yaw_model().ts().rls());
+                send_model_params(out, ident, 3, p.roll_model().ts().rls());
             }
             (Ident::Fuzzy, Ok(f), _) => {
-                dump(out, ident, 0, f.velocity_model().ts().rls());
-                dump(out, ident, 1, f.pitch_model().ts().rls());
-                dump(out, ident, 2, f.yaw_model().ts().rls());
-                dump(out, ident, 3, f.roll_model().ts().rls());
+                send_model_params(out, ident, 0, f.velocity_model().ts().rls());
+                send_model_params(out, ident, 1, f.pitch_model().ts().rls());
+                send_model_params(out, ident, 2, f.yaw_model().ts().rls());
+                send_model_params(out, ident, 3, f.roll_model().ts().rls());
             }
             _ => out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused),
         }
@@ -526,7 +522,7 @@ impl Engine {
                 FuzzyModel::Q(s) => parts(s),
                 FuzzyModel::R(s) | FuzzyModel::P(s) => parts(s),
             };
-            let ok = put(target, st.pos, b, &mut st.word);
+            let ok = store_state_byte(target, st.pos, b, &mut st.word);
             if !ok {
                 return Err(NackReason::BadPayload);
             }
@@ -628,7 +624,7 @@ fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
 }
 
 /// Sends one model's θ, diag(P) and summary as `Params` chunks.
-fn dump<const N: usize, const NP: usize>(
+fn send_model_params<const N: usize, const NP: usize>(
     out: &mut dyn Reply,
     ident: Ident,
     model: u8,

@@ -1,5 +1,8 @@
 //! Recursive least squares (paper Section 4), statically sized.
 //!
+//! (Over 600 lines: the settings, state and checked API of one estimator; the update
+//! kernels are in `update.rs`.)
+//!
 //! The estimator solves `y(k) ≈ ξ(k)ᵀθ` for the parameter vector θ ∈ ℝᴺ, one scalar
 //! measurement at a time. Only the `NP = N(N+1)/2` distinct entries of the symmetric
 //! covariance P (or of its U-D factors) are stored, packed column by column: entry (i, j) with
@@ -47,10 +50,13 @@
 //! # Ok::<(), rotorid::Error>(())
 //! ```
 
-use core::ops::Range;
-
 use crate::error::{ConfigError, Error, Quantity};
 use crate::scalar::{within, Real};
+
+mod update;
+
+use update::RlsSlices;
+pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 
 /// Largest accepted magnitude of a regressor entry `ξ_j`.
 ///
@@ -143,7 +149,7 @@ impl<T: Real> Default for RlsConfig<T> {
     }
 }
 
-/// Everything an [`Rls`] has learnt, for export and warm start (import).
+/// AllParameters an [`Rls`] has learnt, for export and warm start (import).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct RlsState<T, const N: usize, const NP: usize> {
     /// How `factor` is to be read.
@@ -374,7 +380,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// `y − ξᵀθ(k)`. On `Err` nothing changed.
     pub fn update(&mut self, regressor: &[T; N], target: T) -> Result<T, Error> {
         let [e] = self.check(core::array::from_ref(regressor), &[target])?;
-        self.update_row(regressor, Everything(N), e, self.config.forgetting);
+        self.update_row(regressor, AllParameters(N), e, self.config.forgetting);
         Ok(e)
     }
 
@@ -447,7 +453,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             } else {
                 T::one()
             };
-            self.update_row(xi, Everything(N), e, lambda);
+            self.update_row(xi, AllParameters(N), e, lambda);
         }
     }
 
@@ -523,19 +529,25 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// One scalar update whose inputs passed the checks of `update_many`.
     ///
     /// `support` lists, ascending and disjoint, the parameters outside of which every
-    /// regressor entry and every off-diagonal entry of P (or U) is zero; [`Everything`] when
+    /// regressor entry and every off-diagonal entry of P (or U) is zero; [`AllParameters`] when
     /// nothing is known. Outside the support an update changes nothing (every term it would
     /// add there is an exact zero), so the loops visit the support only, with the same bits.
     ///
-    /// The work is done by `Work::update`, generic over the scalar only: one copy of the
+    /// The work is done by `RlsSlices::update`, generic over the scalar only: one copy of the
     /// update code serves every size N (a firmware with several models would otherwise carry
     /// one per size).
-    pub(crate) fn update_row<S: Support>(&mut self, xi: &[T; N], support: S, e: T, lambda: T) {
+    pub(crate) fn update_row<S: ParameterSupport>(
+        &mut self,
+        xi: &[T; N],
+        support: S,
+        e: T,
+        lambda: T,
+    ) {
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
         // Indices of the non-zero ξ_j, ascending: the sums over ξ visit only these (unless
-        // they run over every entry, see `Support::dense_sums`).
+        // they run over every entry, see `ParameterSupport::dense_sums`).
         let mut nz = [0u16; N];
         let mut nnz = 0;
         if !support.dense_sums() {
@@ -554,7 +566,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 }
             }
         }
-        let mut w = Work {
+        let mut w = RlsSlices {
             config: &self.config,
             theta: &mut self.theta,
             factor: &mut self.factor,
@@ -566,462 +578,6 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
     }
-}
-
-/// A run `start..end` of consecutive parameter indices (see `Rls::update_row`'s support).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub(crate) struct Run {
-    pub(crate) start: u16,
-    pub(crate) end: u16,
-}
-
-/// The parameters an update may change, as ascending disjoint runs of indices.
-///
-/// A trait rather than a slice so that the dense case ([`Everything`], what a bare [`Rls`]
-/// knows) compiles to plain loops over `0..N`, as fast as if runs did not exist.
-pub(crate) trait Support: Copy {
-    /// Whether the sums over ξ run over every entry rather than over a list of the non-zero
-    /// ones (the same bits: a zero ξ_i adds ±0). Worth it only for a few parameters.
-    fn dense_sums(self) -> bool;
-
-    fn runs(self) -> impl Iterator<Item = Range<usize>>;
-
-    /// `Work::update` over this support (scratch `s` of length N).
-    fn update<T: Real>(
-        self,
-        w: &mut Work<'_, T>,
-        xi: &[T],
-        nz: &[u16],
-        e: T,
-        lambda: T,
-        s: [&mut [T]; 3],
-    ) -> bool;
-}
-
-/// All N parameters.
-#[derive(Copy, Clone)]
-pub(crate) struct Everything(pub(crate) usize);
-
-/// Up to this many parameters, a bare [`Rls`] sums over every ξ entry: the list of the
-/// non-zero entries costs more than it saves (about 8 % at N = 2 on x86_64).
-pub(crate) const DENSE_SUMS_UP_TO: usize = 4;
-
-impl Support for Everything {
-    #[inline(always)]
-    fn dense_sums(self) -> bool {
-        self.0 <= DENSE_SUMS_UP_TO
-    }
-
-    #[inline(always)]
-    fn runs(self) -> impl Iterator<Item = Range<usize>> {
-        core::iter::once(0..self.0)
-    }
-
-    /// Inlined into the estimator of each size: the loops are over constant lengths, which
-    /// the compiler unrolls for small N.
-    #[inline(always)]
-    fn update<T: Real>(
-        self,
-        w: &mut Work<'_, T>,
-        xi: &[T],
-        nz: &[u16],
-        e: T,
-        lambda: T,
-        s: [&mut [T]; 3],
-    ) -> bool {
-        let [s1, s2, s3] = s;
-        w.update(xi, nz, self, e, lambda, s1, s2, s3)
-    }
-}
-
-impl Support for &[Run] {
-    #[inline(always)]
-    fn dense_sums(self) -> bool {
-        false
-    }
-
-    #[inline(always)]
-    fn runs(self) -> impl Iterator<Item = Range<usize>> {
-        self.iter()
-            .map(|r| usize::from(r.start)..usize::from(r.end))
-    }
-
-    /// The shared routine: one copy for every model.
-    #[inline(always)]
-    fn update<T: Real>(
-        self,
-        w: &mut Work<'_, T>,
-        xi: &[T],
-        nz: &[u16],
-        e: T,
-        lambda: T,
-        s: [&mut [T]; 3],
-    ) -> bool {
-        let [s1, s2, s3] = s;
-        w.update_shared(xi, nz, self, e, lambda, s1, s2, s3)
-    }
-}
-
-/// The part of `run` below `j`.
-#[inline(always)]
-fn below(run: Range<usize>, j: usize) -> Range<usize> {
-    run.start..run.end.min(j)
-}
-
-/// An estimator's storage as slices (`theta.len() = N`, `factor.len() = N(N+1)/2`).
-pub(crate) struct Work<'a, T> {
-    config: &'a RlsConfig<T>,
-    theta: &'a mut [T],
-    factor: &'a mut [T],
-    counters: &'a mut RlsCounters,
-}
-
-impl<T: Real> Work<'_, T> {
-    /// [`update`](Self::update) over runs, as one shared routine: the copy that every model of
-    /// an identifier calls, whatever its size (a firmware carries 8 models).
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn update_shared(
-        &mut self,
-        xi: &[T],
-        nz: &[u16],
-        support: &[Run],
-        e: T,
-        lambda: T,
-        s1: &mut [T],
-        s2: &mut [T],
-        s3: &mut [T],
-    ) -> bool {
-        self.update(xi, nz, support, e, lambda, s1, s2, s3)
-    }
-
-    /// One update with prior innovation `e` and forgetting factor `lambda`; scratch slices of
-    /// length N. Returns whether it was applied.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn update<S: Support>(
-        &mut self,
-        xi: &[T],
-        nz: &[u16],
-        support: S,
-        e: T,
-        lambda: T,
-        s1: &mut [T],
-        s2: &mut [T],
-        s3: &mut [T],
-    ) -> bool {
-        match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, nz, support, e, lambda, s1, s2),
-            Algorithm::UdFactor => {
-                self.ud_update(xi, nz, support, e, lambda, s1, s2, s3);
-                true
-            }
-        }
-    }
-
-    /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
-    /// update was applied (see [`RlsCounters::numerical_skips`]). `g`, `k`: zeroed scratch.
-    #[allow(clippy::too_many_arguments)]
-    fn covariance_update<S: Support>(
-        &mut self,
-        xi: &[T],
-        nz: &[u16],
-        support: S,
-        e: T,
-        lambda: T,
-        g: &mut [T],
-        k: &mut [T],
-    ) -> bool {
-        // g = P ξ, one column of the packed triangle at a time: column j holds P(i, j) for
-        // i ≤ j, which gives g_i += P(i, j) ξ_j for i < j and g_j = Σ_{i ≤ j} P(i, j) ξ_i
-        // (g_j is untouched before column j). Each g_i therefore sums its terms in ascending
-        // j from +0, as P ξ written out. Terms that are exact zeros are skipped (zero ξ_j, `nz`
-        // lists the others; P(i, j) outside the support): adding ±0 to a sum from +0 changes
-        // nothing. Outside the support g stays 0.
-        for run in support.runs() {
-            for j in run.clone() {
-                let (Some((&pjj, above)), Some(&xj)) = (column(self.factor, j), xi.get(j)) else {
-                    break;
-                };
-                let mut s = T::zero();
-                if xj == T::zero() {
-                    s = sum_below(support, s, above, xi, nz);
-                } else {
-                    for r in support.runs() {
-                        let rows = below(r, j);
-                        let (Some(gs), Some(ps), Some(xs)) = (
-                            g.get_mut(rows.clone()),
-                            above.get(rows.clone()),
-                            xi.get(rows),
-                        ) else {
-                            break;
-                        };
-                        for ((gi, &p), &x) in gs.iter_mut().zip(ps).zip(xs) {
-                            *gi += p * xj;
-                            s += p * x;
-                        }
-                    }
-                    s += pjj * xj;
-                }
-                if let Some(gj) = g.get_mut(j) {
-                    *gj = s;
-                }
-            }
-        }
-        let mut denom = lambda;
-        if support.dense_sums() {
-            for (&x, &gi) in xi.iter().zip(g.iter()) {
-                denom += x * gi;
-            }
-        } else {
-            for &i in nz {
-                let i = usize::from(i);
-                if let (Some(&x), Some(&gi)) = (xi.get(i), g.get(i)) {
-                    denom += x * gi;
-                }
-            }
-        }
-        // In f32 with a large α this form can lose positive definiteness (the reason the U-D
-        // form exists): an update whose denominator is not positive, or whose step is not
-        // finite, is skipped and counted rather than allowed to produce ∞ or NaN.
-        if !(denom > T::zero() && denom.is_finite()) {
-            self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
-            return false;
-        }
-        // K = g / (λ + ξᵀPξ), divided entry by entry exactly as the paper writes it (0
-        // outside the support, where g is 0).
-        for run in support.runs() {
-            let r = run;
-            let (Some(ks), Some(gs), Some(ts)) =
-                (k.get_mut(r.clone()), g.get(r.clone()), self.theta.get(r))
-            else {
-                break;
-            };
-            for ((ki, &gi), &t) in ks.iter_mut().zip(gs).zip(ts) {
-                *ki = gi / denom;
-                if !(t + *ki * e).is_finite() {
-                    self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
-                    return false;
-                }
-            }
-        }
-        // Forgetting with the windup guard: trace(P⁺)/λ must stay within the bound.
-        let mut scale = None;
-        if lambda < T::one() {
-            let mut trace = T::zero();
-            for (j, (&kj, &gj)) in k.iter().zip(g.iter()).enumerate() {
-                trace += self.factor.get(col(j) + j).copied().unwrap_or_else(T::zero) - kj * gj;
-            }
-            if trace / lambda <= self.config.max_trace {
-                scale = Some(T::one() / lambda);
-            } else {
-                self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
-            }
-        }
-        match scale {
-            // P − K gᵀ: only columns j and rows i in the support change (K and g are 0
-            // elsewhere), and only columns with g_j ≠ 0.
-            None => {
-                for run in support.runs() {
-                    for j in run.clone() {
-                        let gj = g.get(j).copied().unwrap_or_else(T::zero);
-                        if gj == T::zero() {
-                            continue; // P_ij − K_i·0 = P_ij
-                        }
-                        let start = col(j);
-                        let Some(column) = self.factor.get_mut(start..=start + j) else {
-                            break;
-                        };
-                        for r in support.runs() {
-                            let rows = below(r, j + 1);
-                            let (Some(ps), Some(ks)) = (column.get_mut(rows.clone()), k.get(rows))
-                            else {
-                                break;
-                            };
-                            for (p, &ki) in ps.iter_mut().zip(ks) {
-                                *p -= ki * gj;
-                            }
-                        }
-                    }
-                }
-            }
-            // (P − K gᵀ)/λ scales every entry: all of P.
-            Some(s) => {
-                for (j, &gj) in g.iter().enumerate() {
-                    let start = col(j);
-                    let Some(column) = self.factor.get_mut(start..=start + j) else {
-                        continue;
-                    };
-                    for (p, &ki) in column.iter_mut().zip(k.iter()) {
-                        *p = (*p - ki * gj) * s;
-                    }
-                }
-            }
-        }
-        for run in support.runs() {
-            let r = run;
-            let (Some(ts), Some(ks)) = (self.theta.get_mut(r.clone()), k.get(r)) else {
-                break;
-            };
-            for (t, &ki) in ts.iter_mut().zip(ks) {
-                *t += ki * e;
-            }
-        }
-        true
-    }
-
-    /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
-    /// `f`, `v`, `b`: zeroed scratch.
-    #[allow(clippy::too_many_arguments)]
-    fn ud_update<S: Support>(
-        &mut self,
-        xi: &[T],
-        nz: &[u16],
-        support: S,
-        e: T,
-        lambda: T,
-        f: &mut [T],
-        v: &mut [T],
-        b: &mut [T],
-    ) {
-        // f = Uᵀ ξ (U unit upper triangular); v = D f. The sums visit the non-zero ξ_i only
-        // (`nz`, ascending): a zero term would add ±0, which changes no non-zero sum and at
-        // most the sign of a zero f_j (whose column is skipped either way). Outside the
-        // support f is 0 (ξ_j = 0 and column j of U is zero above the diagonal).
-        for run in support.runs() {
-            let r = run.clone();
-            let (Some(fs), Some(vs), Some(xs)) =
-                (f.get_mut(r.clone()), v.get_mut(r.clone()), xi.get(r))
-            else {
-                break;
-            };
-            for (j, ((fj, vj), &xj)) in run.zip(fs.iter_mut().zip(vs).zip(xs)) {
-                let Some((&dj, above)) = column(self.factor, j) else {
-                    break;
-                };
-                let s = sum_below(support, xj, above, xi, nz);
-                *fj = s;
-                *vj = dj * s;
-            }
-        }
-        // b accumulates the unnormalised gain U D f = P ξ.
-        let mut alpha = lambda;
-        // 1/λ, without a division in the usual case λ = 1 (1/1 = 1 exactly).
-        let mut inv_alpha = if lambda == T::one() {
-            T::one()
-        } else {
-            T::one() / lambda
-        };
-        for run in support.runs() {
-            for j in run.clone() {
-                let (Some(&fj), Some(&vj)) = (f.get(j), v.get(j)) else {
-                    break;
-                };
-                if fj == T::zero() {
-                    continue; // v_j = 0: column j and D_j unchanged, b unchanged
-                }
-                let alpha_prev = alpha;
-                let inv_prev = inv_alpha;
-                alpha = alpha_prev + fj * vj;
-                // One division per column: 1/α_j serves this column's D update and the next p.
-                inv_alpha = T::one() / alpha;
-                let p = -fj * inv_prev;
-                let Some((dj, above)) = column_mut(self.factor, j) else {
-                    break;
-                };
-                *dj *= alpha_prev * inv_alpha;
-                // Rows outside the support have U_ij = 0 and b_i = 0: unchanged.
-                for r in support.runs() {
-                    let rows = below(r, j);
-                    let (Some(us), Some(bs)) = (above.get_mut(rows.clone()), b.get_mut(rows))
-                    else {
-                        break;
-                    };
-                    for (u, bi) in us.iter_mut().zip(bs.iter_mut()) {
-                        let u_old = *u;
-                        *u = u_old + *bi * p;
-                        *bi += u_old * vj;
-                    }
-                }
-                if let Some(bj) = b.get_mut(j) {
-                    *bj = vj;
-                }
-            }
-        }
-        // K = b/α; θ += K e, with the scalar e/α formed once (b is 0 outside the support).
-        let gain = e * inv_alpha;
-        for run in support.runs() {
-            let r = run;
-            let (Some(ts), Some(bs)) = (self.theta.get_mut(r.clone()), b.get(r)) else {
-                break;
-            };
-            for (t, &bi) in ts.iter_mut().zip(bs) {
-                *t += bi * gain;
-            }
-        }
-        if lambda < T::one() {
-            if self.ud_trace(f) / lambda <= self.config.max_trace {
-                let s = T::one() / lambda;
-                for j in 0..self.theta.len() {
-                    if let Some(d) = self.factor.get_mut(col(j) + j) {
-                        *d *= s;
-                    }
-                }
-            } else {
-                self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
-            }
-        }
-    }
-
-    /// trace(P) of the U-D factors, summed exactly as [`Rls::trace`] does (`diag`: scratch
-    /// of length N).
-    fn ud_trace(&self, diag: &mut [T]) -> T {
-        for d in diag.iter_mut() {
-            *d = T::zero();
-        }
-        for j in 0..self.theta.len() {
-            let Some((&dj, above)) = column(self.factor, j) else {
-                continue;
-            };
-            for (d, &u) in diag.iter_mut().zip(above) {
-                *d += u * u * dj;
-            }
-            if let Some(d) = diag.get_mut(j) {
-                *d += dj;
-            }
-        }
-        let mut t = T::zero();
-        for &d in diag.iter() {
-            t += d;
-        }
-        t
-    }
-}
-
-/// `start + Σ_{i<j} a_i ξ_i` (j = `above.len()`) in ascending i: over every i if the
-/// support says so ([`Support::dense_sums`]), else over the non-zero ξ_i only (`nz`, ascending). The same bits either way: a
-/// zero ξ_i adds ±0, which changes no non-zero sum and at most the sign of a zero one.
-#[inline(always)]
-fn sum_below<T: Real>(support: impl Support, start: T, above: &[T], xi: &[T], nz: &[u16]) -> T {
-    let mut s = start;
-    if support.dense_sums() {
-        for (&a, &x) in above.iter().zip(xi) {
-            s += a * x;
-        }
-    } else {
-        let j = above.len();
-        for &i in nz {
-            let i = usize::from(i);
-            if i >= j {
-                break;
-            }
-            let (Some(&a), Some(&x)) = (above.get(i), xi.get(i)) else {
-                break;
-            };
-            s += a * x;
-        }
-    }
-    s
 }
 
 /// Checks every regressor entry: finite and within [`REGRESSOR_LIMIT`].
@@ -1068,7 +624,7 @@ mod tests {
             };
             let mut dense = Rls::<f32, 4, 10>::new(config).unwrap();
             let mut listed = dense.clone();
-            assert!(Everything(4).dense_sums());
+            assert!(AllParameters(4).dense_sums());
             let all = [Run { start: 0, end: 4 }];
             let mut state = 0x9e37_79b9u32;
             for k in 0..500u32 {
@@ -1085,7 +641,7 @@ mod tests {
                     }
                 }
                 let e = xi[0] - 0.25 * xi[3];
-                dense.update_row(&xi, Everything(4), e, 1.0);
+                dense.update_row(&xi, AllParameters(4), e, 1.0);
                 listed.update_row(&xi, &all[..], e, 1.0);
                 let bits = |r: &Rls<f32, 4, 10>| {
                     let s = r.export();

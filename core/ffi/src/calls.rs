@@ -1,0 +1,194 @@
+//! The calls on a prepared identifier: step, predict, resume, reset, info, export, import.
+
+use rotorid::{HoverSample, HoverState};
+
+use crate::error::*;
+use crate::handle::{get, ident, ident_mut, kind_of, put, rotorid_ident_t};
+use crate::types::*;
+
+/// Takes sample k+1: learns every model from sample k to it and predicts sample k+2
+/// (`rotorid::HoverIdentifier::step`). A rejected sample changes nothing; after a
+/// TIME_STEP error (a gap), call `rotorid_resume`.
+///
+/// # Safety
+/// `h` comes from `rotorid_init` (or is NULL); `sample`, `out`, `error` are NULL or valid.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_step(
+    h: *mut rotorid_ident_t,
+    sample: *const rotorid_sample_t,
+    out: *mut rotorid_step_output_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let sample = HoverSample::from(&get(sample)?);
+            if out.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let o = ident_mut(h)?.step(&sample)?;
+            put(out, o)
+        })();
+        report(result, error)
+    }
+}
+
+/// One-step prediction of the state after `sample` with the current parameters; changes
+/// nothing. `before`: the state of the sample before `sample` (measured, or the model's own
+/// estimate in a simulation), read only by second-order terms; NULL at the start of a chain.
+///
+/// # Safety
+/// As `rotorid_step`; `before` is NULL or valid.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_predict(
+    h: *const rotorid_ident_t,
+    before: *const rotorid_state_t,
+    sample: *const rotorid_sample_t,
+    out: *mut rotorid_state_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let sample = HoverSample::from(&get(sample)?);
+            let before = before.as_ref().map(HoverState::from);
+            if out.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let p = ident(h)?.predict(before.as_ref(), &sample)?;
+            put(out, p.into())
+        })();
+        report(result, error)
+    }
+}
+
+/// Starts a new sample chain at `sample` without learning (after a gap or a time jump) and
+/// writes the prediction from it to `out`.
+///
+/// # Safety
+/// As `rotorid_step`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_resume(
+    h: *mut rotorid_ident_t,
+    sample: *const rotorid_sample_t,
+    out: *mut rotorid_state_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let sample = HoverSample::from(&get(sample)?);
+            if out.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let p = ident_mut(h)?.resume(&sample)?;
+            put(out, p.into())
+        })();
+        report(result, error)
+    }
+}
+
+/// Forgets everything learnt: θ = 0, P = αI, no previous sample.
+///
+/// # Safety
+/// As `rotorid_step`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_reset(
+    h: *mut rotorid_ident_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = ident_mut(h).map(|id| id.reset());
+        report(result, error)
+    }
+}
+
+/// The settings of an identifier (as given to `rotorid_init`) and its kind.
+///
+/// # Safety
+/// As `rotorid_step`; `kind` and `config` are NULL (not wanted) or valid.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_info(
+    h: *const rotorid_ident_t,
+    kind: *mut u32,
+    config: *mut rotorid_config_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let k = kind_of(h)?;
+            let c = ident(h)?.config();
+            if let Some(kind) = kind.as_mut() {
+                *kind = k;
+            }
+            if let Some(config) = config.as_mut() {
+                *config = c.into();
+            }
+            Ok(())
+        })();
+        report(result, error)
+    }
+}
+
+/// Writes everything the identifier has learnt into `buffer` (`capacity` bytes, at least
+/// `ROTORID_<KIND>_EXPORT_SIZE`; format in the crate docs of `rotorid-ffi`, module `export`)
+/// and its length to `*length`.
+///
+/// # Safety
+/// As `rotorid_step`; `buffer` is NULL or valid for writes of `capacity` bytes; `length`
+/// is NULL or valid.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_export(
+    h: *const rotorid_ident_t,
+    buffer: *mut u8,
+    capacity: usize,
+    length: *mut usize,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            if buffer.is_null() || length.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let kind = kind_of(h)?;
+            let id = ident(h)?;
+            let out = core::slice::from_raw_parts_mut(buffer, capacity);
+            let n = id
+                .export(kind, out)
+                .map_err(|()| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
+            put(length, n)
+        })();
+        report(result, error)
+    }
+}
+
+/// Warm start from an export of the same kind (`length` bytes at `buffer`). Everything is
+/// checked before anything is written: on an error nothing changed. The sample chain
+/// restarts (the next step only anchors).
+///
+/// # Safety
+/// As `rotorid_step`; `buffer` is NULL or valid for reads of `length` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_import(
+    h: *mut rotorid_ident_t,
+    buffer: *const u8,
+    length: usize,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            if buffer.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let kind = kind_of(h)?;
+            let bytes = core::slice::from_raw_parts(buffer, length);
+            ident_mut(h)?.import(kind, bytes)?;
+            Ok(())
+        })();
+        report(result, error)
+    }
+}

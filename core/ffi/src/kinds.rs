@@ -1,0 +1,323 @@
+//! The identifier kinds of the C interface: codes, sizes, how each is built, and the calls any
+//! kind answers.
+
+use core::mem::{align_of, size_of};
+
+use rotorid::hover::{flight_sets, table3, StateModel};
+use rotorid::membership::MembershipFunction;
+use rotorid::{
+    Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
+    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+};
+
+use crate::export::{self, Wire};
+use crate::handle::Slot;
+use crate::types::*;
+
+/// The flight default: three forward-speed rules per model, local learning, the extended
+/// flight structures (`rotorid::FlightIdentifier`).
+pub const ROTORID_KIND_FLIGHT: u32 = 1;
+/// The flight structures with one rule (`rotorid::FlightPlainIdentifier`).
+pub const ROTORID_KIND_FLIGHT_PLAIN: u32 = 2;
+/// The paper's fuzzy identifier (Table 3 sets, global RLS; `rotorid::PaperFuzzyIdentifier`).
+pub const ROTORID_KIND_PAPER_FUZZY: u32 = 3;
+/// The paper's plain identifier (one rule; `rotorid::PaperPlainIdentifier`).
+pub const ROTORID_KIND_PAPER_PLAIN: u32 = 4;
+/// Extended structures, Table 3 sets, global RLS (`rotorid::ExtendedFuzzyIdentifier`).
+pub const ROTORID_KIND_EXTENDED_FUZZY: u32 = 5;
+/// Extended structures, one rule (`rotorid::ExtendedPlainIdentifier`).
+pub const ROTORID_KIND_EXTENDED_PLAIN: u32 = 6;
+/// The paper's structures and sets, learnt locally (`rotorid::PaperLocalIdentifier`).
+pub const ROTORID_KIND_PAPER_LOCAL: u32 = 7;
+/// Extended structures, Table 3 sets, learnt locally (`rotorid::ExtendedLocalIdentifier`).
+pub const ROTORID_KIND_EXTENDED_LOCAL: u32 = 8;
+
+/// Alignment every identifier's storage needs (bytes).
+pub const ROTORID_STORAGE_ALIGN: usize = 8;
+
+/// Storage bytes of `ROTORID_KIND_FLIGHT`.
+pub const ROTORID_FLIGHT_STORAGE_SIZE: usize = 2840;
+/// Storage bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
+pub const ROTORID_FLIGHT_PLAIN_STORAGE_SIZE: usize = 1496;
+/// Storage bytes of `ROTORID_KIND_PAPER_FUZZY`.
+pub const ROTORID_PAPER_FUZZY_STORAGE_SIZE: usize = 11280;
+/// Storage bytes of `ROTORID_KIND_PAPER_PLAIN`.
+pub const ROTORID_PAPER_PLAIN_STORAGE_SIZE: usize = 888;
+/// Storage bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
+pub const ROTORID_EXTENDED_FUZZY_STORAGE_SIZE: usize = 27248;
+/// Storage bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
+pub const ROTORID_EXTENDED_PLAIN_STORAGE_SIZE: usize = 1240;
+/// Storage bytes of `ROTORID_KIND_PAPER_LOCAL`.
+pub const ROTORID_PAPER_LOCAL_STORAGE_SIZE: usize = 3768;
+/// Storage bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
+pub const ROTORID_EXTENDED_LOCAL_STORAGE_SIZE: usize = 5192;
+
+/// Export bytes of `ROTORID_KIND_FLIGHT`.
+pub const ROTORID_FLIGHT_EXPORT_SIZE: usize = 1788;
+/// Export bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
+pub const ROTORID_FLIGHT_PLAIN_EXPORT_SIZE: usize = 604;
+/// Export bytes of `ROTORID_KIND_PAPER_FUZZY`.
+pub const ROTORID_PAPER_FUZZY_EXPORT_SIZE: usize = 10520;
+/// Export bytes of `ROTORID_KIND_PAPER_PLAIN`.
+pub const ROTORID_PAPER_PLAIN_EXPORT_SIZE: usize = 124;
+/// Export bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
+pub const ROTORID_EXTENDED_FUZZY_EXPORT_SIZE: usize = 26432;
+/// Export bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
+pub const ROTORID_EXTENDED_PLAIN_EXPORT_SIZE: usize = 424;
+/// Export bytes of `ROTORID_KIND_PAPER_LOCAL`.
+pub const ROTORID_PAPER_LOCAL_EXPORT_SIZE: usize = 1776;
+/// Export bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
+pub const ROTORID_EXTENDED_LOCAL_EXPORT_SIZE: usize = 3624;
+
+/// The calls the C interface makes on any identifier kind.
+pub(crate) trait Ident {
+    fn step(&mut self, s: &HoverSample<f32>) -> Result<rotorid_step_output_t, Error>;
+    fn predict(
+        &self,
+        before: Option<&HoverState<f32>>,
+        s: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, Error>;
+    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, Error>;
+    fn reset(&mut self);
+    fn config(&self) -> HoverConfig<f32>;
+    fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
+    fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
+}
+
+/// The export size of an identifier type.
+pub(crate) trait ExportSize {
+    const EXPORT_SIZE: usize;
+}
+
+impl<V, Q, R, P> ExportSize for HoverIdentifier<f32, V, Q, R, P>
+where
+    V: StateModel<f32, State: Wire>,
+    Q: StateModel<f32, State: Wire>,
+    R: StateModel<f32, State: Wire>,
+    P: StateModel<f32, State: Wire>,
+{
+    const EXPORT_SIZE: usize = export::export_size::<V, Q, R, P>();
+}
+
+impl<V, Q, R, P> Ident for HoverIdentifier<f32, V, Q, R, P>
+where
+    V: StateModel<f32, State: Wire>,
+    Q: StateModel<f32, State: Wire>,
+    R: StateModel<f32, State: Wire>,
+    P: StateModel<f32, State: Wire>,
+{
+    fn step(&mut self, s: &HoverSample<f32>) -> Result<rotorid_step_output_t, Error> {
+        HoverIdentifier::step(self, s).map(Into::into)
+    }
+    fn predict(
+        &self,
+        before: Option<&HoverState<f32>>,
+        s: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, Error> {
+        self.predict_after(before, s)
+    }
+    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, Error> {
+        HoverIdentifier::resume(self, s)
+    }
+    fn reset(&mut self) {
+        HoverIdentifier::reset(self)
+    }
+    fn config(&self) -> HoverConfig<f32> {
+        HoverIdentifier::config(self)
+    }
+    fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()> {
+        export::export(self, kind, out)
+    }
+    fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error> {
+        export::import(self, kind, bytes)
+    }
+}
+
+/// Calls `$body` with `$I` the identifier type of kind code `$kind` (`$none` for an unknown
+/// code): the one list of kinds every call dispatches through.
+macro_rules! for_kind {
+    ($kind:expr, $I:ident => $body:expr, _ => $none:expr) => {
+        match $kind {
+            ROTORID_KIND_FLIGHT => {
+                type $I = rotorid::FlightIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_FLIGHT_PLAIN => {
+                type $I = rotorid::FlightPlainIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_PAPER_FUZZY => {
+                type $I = rotorid::PaperFuzzyIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_PAPER_PLAIN => {
+                type $I = rotorid::PaperPlainIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_EXTENDED_FUZZY => {
+                type $I = rotorid::ExtendedFuzzyIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_EXTENDED_PLAIN => {
+                type $I = rotorid::ExtendedPlainIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_PAPER_LOCAL => {
+                type $I = rotorid::PaperLocalIdentifier<f32>;
+                $body
+            }
+            ROTORID_KIND_EXTENDED_LOCAL => {
+                type $I = rotorid::ExtendedLocalIdentifier<f32>;
+                $body
+            }
+            _ => $none,
+        }
+    };
+}
+
+pub(crate) use for_kind;
+
+/// The documented sizes are the real ones (checked at compile time, on every target).
+const _: () = {
+    macro_rules! check {
+        ($I:ty, $storage:expr, $export:expr) => {
+            assert!(size_of::<Slot<$I>>() == $storage);
+            assert!(align_of::<Slot<$I>>() <= ROTORID_STORAGE_ALIGN);
+            assert!(<$I as ExportSize>::EXPORT_SIZE == $export);
+        };
+    }
+    check!(
+        FlightIdentifier<f32>,
+        ROTORID_FLIGHT_STORAGE_SIZE,
+        ROTORID_FLIGHT_EXPORT_SIZE
+    );
+    check!(
+        FlightPlainIdentifier<f32>,
+        ROTORID_FLIGHT_PLAIN_STORAGE_SIZE,
+        ROTORID_FLIGHT_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        PaperFuzzyIdentifier<f32>,
+        ROTORID_PAPER_FUZZY_STORAGE_SIZE,
+        ROTORID_PAPER_FUZZY_EXPORT_SIZE
+    );
+    check!(
+        PaperPlainIdentifier<f32>,
+        ROTORID_PAPER_PLAIN_STORAGE_SIZE,
+        ROTORID_PAPER_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        ExtendedFuzzyIdentifier<f32>,
+        ROTORID_EXTENDED_FUZZY_STORAGE_SIZE,
+        ROTORID_EXTENDED_FUZZY_EXPORT_SIZE
+    );
+    check!(
+        ExtendedPlainIdentifier<f32>,
+        ROTORID_EXTENDED_PLAIN_STORAGE_SIZE,
+        ROTORID_EXTENDED_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        PaperLocalIdentifier<f32>,
+        ROTORID_PAPER_LOCAL_STORAGE_SIZE,
+        ROTORID_PAPER_LOCAL_EXPORT_SIZE
+    );
+    check!(
+        ExtendedLocalIdentifier<f32>,
+        ROTORID_EXTENDED_LOCAL_STORAGE_SIZE,
+        ROTORID_EXTENDED_LOCAL_EXPORT_SIZE
+    );
+};
+
+/// Storage bytes an identifier of `kind` needs (0 for an unknown kind).
+#[no_mangle]
+pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
+    for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
+}
+
+/// Bytes of an export of `kind` (0 for an unknown kind).
+#[no_mangle]
+pub extern "C" fn rotorid_export_size(kind: u32) -> usize {
+    for_kind!(kind, I => <I as ExportSize>::EXPORT_SIZE, _ => 0)
+}
+
+fn premise_sets(s: &rotorid_flight_sets_t) -> rotorid::rule_base::PremiseSets<f32> {
+    let [c0, c1, c2] = s.centre;
+    let [s0, s1, s2] = s.spread;
+    table3::sets(&[
+        MembershipFunction::LeftShoulder {
+            centre: c0,
+            spread: s0,
+        },
+        MembershipFunction::Gaussian {
+            centre: c1,
+            spread: s1,
+        },
+        MembershipFunction::RightShoulder {
+            centre: c2,
+            spread: s2,
+        },
+    ])
+}
+
+/// How each kind is built from the C settings.
+pub(crate) trait Build: Sized {
+    /// The core's constructor of the kind.
+    fn build(
+        config: HoverConfig<f32>,
+        sets: Option<&rotorid_flight_sets_t>,
+    ) -> Result<Self, rotorid::Error>;
+
+    /// Builds straight into `out`: the identifier is never copied through the caller's
+    /// frame (for the paper's fuzzy identifier that is 11 KiB of stack saved per copy).
+    ///
+    /// # Safety
+    /// `out` is aligned and valid for a write of `Self`.
+    #[inline(never)]
+    unsafe fn build_into(
+        config: HoverConfig<f32>,
+        sets: Option<&rotorid_flight_sets_t>,
+        out: *mut Self,
+    ) -> Result<(), rotorid::Error> {
+        // SAFETY: the caller's contract.
+        unsafe { out.write(Self::build(config, sets)?) };
+        Ok(())
+    }
+}
+
+/// Kinds without premise sets of their own (`rotorid_init` refuses sets for them).
+macro_rules! build_without_sets {
+    ($($I:ty => $new:path),* $(,)?) => {$(
+        impl Build for $I {
+            fn build(
+                config: HoverConfig<f32>,
+                _: Option<&rotorid_flight_sets_t>,
+            ) -> Result<Self, rotorid::Error> {
+                $new(config)
+            }
+        }
+    )*};
+}
+
+build_without_sets! {
+    FlightPlainIdentifier<f32> => FlightPlainIdentifier::flight_plain,
+    PaperFuzzyIdentifier<f32> => PaperFuzzyIdentifier::paper_fuzzy,
+    PaperPlainIdentifier<f32> => PaperPlainIdentifier::paper_plain,
+    ExtendedFuzzyIdentifier<f32> => ExtendedFuzzyIdentifier::extended_fuzzy,
+    ExtendedPlainIdentifier<f32> => ExtendedPlainIdentifier::extended_plain,
+    PaperLocalIdentifier<f32> => PaperLocalIdentifier::paper_local,
+    ExtendedLocalIdentifier<f32> => ExtendedLocalIdentifier::extended_local,
+}
+
+impl Build for FlightIdentifier<f32> {
+    fn build(
+        config: HoverConfig<f32>,
+        sets: Option<&rotorid_flight_sets_t>,
+    ) -> Result<Self, rotorid::Error> {
+        let sets = match sets {
+            Some(s) => premise_sets(s),
+            None => flight_sets(),
+        };
+        FlightIdentifier::flight(config, sets)
+    }
+}

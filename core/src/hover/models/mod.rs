@@ -1,0 +1,126 @@
+//! The four state models of the hover identifier: thin wrappers that turn a [`HoverSample`]
+//! into the premise and consequent terms of a TS estimator
+//! ([`TsEstimator`](crate::learning::TsEstimator)).
+//!
+//! * [`frame`]: the body axes of an attitude ([`BodyFrame`]).
+//! * [`velocity`]: the translational model (Eq. 27) and its structures.
+//! * [`rate`]: the three angular models (Eqs. 28–30) and their structures.
+
+use crate::error::{ConfigError, Error};
+use crate::hover::sample::{HoverSample, HoverState};
+use crate::rls::RlsConfig;
+use crate::scalar::Real;
+
+mod frame;
+mod rate;
+mod velocity;
+
+pub use frame::{right_axis, rotor_axis, BodyFrame};
+pub use rate::{RateAxis, RateModel, RateStructure};
+pub use velocity::{VelocityModel, VelocityStructure};
+
+/// What a [`HoverIdentifier`](crate::hover::HoverIdentifier) needs of each of its models.
+///
+/// Learning is split in two so that the identifier can check all four models before it
+/// changes any: [`prepare`](Self::prepare) checks and computes, [`apply`](Self::apply) writes.
+pub trait StateModel<T: Real> {
+    /// A checked update, ready to apply.
+    type Prepared;
+    /// What [`export`](Self::export) returns and [`import`](Self::import) takes.
+    type State: Copy;
+
+    /// Checks and computes the update from sample k (`from`) to sample k+1 (`to`).
+    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error>;
+    /// Learns from a prepared update; writes the prior innovations of this model's outputs
+    /// into `innovation` (the other entries are left alone).
+    fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>);
+    /// Writes this model's one-step prediction of sample k+1 from sample k into `next`.
+    fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error>;
+    /// Back to θ(0) = 0, P(0) = αI.
+    fn reset(&mut self);
+    /// Everything learnt.
+    fn export(&self) -> Self::State;
+    /// Warm start from an exported state. On `Err` nothing changed.
+    fn import(&mut self, state: &Self::State) -> Result<(), Error>;
+    /// The checks of [`import`](Self::import), without importing.
+    fn check_import(&self, state: &Self::State) -> Result<(), Error>;
+    /// New estimator settings (and the scales they imply), in place, starting afresh.
+    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
+    /// The estimator settings.
+    fn rls_config(&self) -> &RlsConfig<T>;
+
+    /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
+    /// keeps it from the previous step) and the body rates `[q r p]` of the sample before
+    /// `from` (`before`; `from`'s own rates when there is none), for structures with a
+    /// second-order term ([`RateStructure::Flight`]). [`prepare`](Self::prepare) is this with
+    /// `before = from.rates`.
+    fn prepare_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        to: &HoverSample<T>,
+    ) -> Result<Self::Prepared, Error> {
+        let _ = (from_frame, before);
+        self.prepare(from, to)
+    }
+
+    /// [`predict`](Self::predict) with `from`'s body frame already computed and the rates of
+    /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
+    fn predict_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let _ = (from_frame, before);
+        self.predict(from, next)
+    }
+}
+
+/// The premise variables a model's rules are scheduled on.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Premise {
+    /// The paper's choice for Eq. 27: the inertial velocity `v^s = [v_x v_y v_z]` (m/s).
+    Velocity,
+    /// The paper's choice for Eqs. 28–30: the body rates `[q r p]` (deg/s).
+    Rates,
+    /// The velocity in the heading frame, `[forward, right, up]` (m/s): `v^s` turned by the
+    /// yaw ψ (ground speed, which is airspeed in still air). A helicopter's dynamics change
+    /// with airspeed (speed stability, the fin's and the stabiliser's damping, translational
+    /// lift, the tail rotor's effectiveness), and they do so in the aircraft's own axes; the
+    /// inertial velocity would split one physical regime over several headings.
+    HeadingVelocity,
+}
+
+impl Premise {
+    /// The premise vector of sample `s` (whose body frame is `frame`).
+    #[inline]
+    pub fn of<T: Real>(self, s: &HoverSample<T>, frame: &BodyFrame<T>) -> [T; 3] {
+        match self {
+            Self::Velocity => s.velocity,
+            Self::Rates => s.rates,
+            Self::HeadingVelocity => {
+                // Paper axes: x east, y up, z south; ψ from north towards east.
+                let [x, y, z] = s.velocity;
+                let (sp, cp) = (frame.sp, frame.cp);
+                [x * sp - z * cp, x * cp + z * sp, y]
+            }
+        }
+    }
+}
+
+pub(crate) fn check_terms(needed: usize, found: usize) -> Result<(), Error> {
+    if needed == found {
+        Ok(())
+    } else {
+        Err(ConfigError::ConsequentTerms {
+            needed: needed as u8,
+            found: found as u8,
+        }
+        .into())
+    }
+}

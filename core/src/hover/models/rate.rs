@@ -1,0 +1,341 @@
+//! The angular models (Eqs. 28–30): `Δq`, `Δr`, `Δp` from the controls and the rates.
+
+use crate::error::Error;
+use crate::hover::sample::{HoverSample, HoverState};
+use crate::learning::{Learning, TsEstimator};
+use crate::rls::RlsConfig;
+use crate::rule_base::RuleBase;
+use crate::scalar::Real;
+use crate::ts::{Prepared, Scaling};
+
+use super::{check_terms, BodyFrame, Premise, StateModel};
+
+/// Which body rate an angular model predicts.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum RateAxis {
+    /// q̂, Eq. 28: `Δ = [r·p, u_lon·u_col]`.
+    Pitch,
+    /// r̂, Eq. 29: `Δ = [q·p, u_ped]`.
+    Yaw,
+    /// p̂, Eq. 30: `Δ = [q·r, u_lat·u_col]`.
+    Roll,
+}
+
+impl RateAxis {
+    /// Index of this rate in `[q r p]`.
+    pub const fn index(self) -> usize {
+        match self {
+            Self::Pitch => 0,
+            Self::Yaw => 1,
+            Self::Roll => 2,
+        }
+    }
+}
+
+/// Consequent structure of an angular model.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum RateStructure {
+    /// Eqs. 28–30: per rule an inertia-coupling coefficient `𝕀^i` (gyroscopic product of
+    /// the other two rates) and a control gain `γ^i`. `D = 2`.
+    Paper,
+    /// Eqs. 28–30 plus a damping term in the model's own rate, the collective term `B′u_col`
+    /// of Eq. 20 that Eq. 26 drops, and an affine (trim) term: per rule `[𝕀, γ, δ, β, c]`,
+    /// e.g. `q̂(k+1) = q + 𝕀 r p + γ u_lon u_col + δ q + β u_col + c`. Rotorcraft damp their
+    /// rates strongly (rotor flapping, Eqs. 6–7), which the paper's structure can only fold
+    /// into the control gain; the main rotor's torque changes with collective, which drives
+    /// yaw; the affine term absorbs trim moments. `D = 5`.
+    Extended,
+    /// [`Extended`](Self::Extended) plus the speed-stability term of the model's own axis and
+    /// a second-order term: `[𝕀, γ, δ, β, c, κ, η]`, e.g.
+    /// `q̂(k+1) = q + … + κ u + η (q(k) − q(k−1))`.
+    ///
+    /// * `κ u` for q̂ (`M_u`: forward speed flaps the disc back and pitches the nose up) and
+    ///   `κ v` for r̂ and p̂ (`N_v`: the fin's weathercock moment; `L_v`: the disc's dihedral
+    ///   effect), `u`, `v` being the forward and rightward speed in the heading frame (m/s):
+    ///   the velocity derivatives of every linear helicopter model, and they grow with
+    ///   airspeed.
+    /// * `η Δω(k)`, the previous increment of the rate: the rotor's flapping and inflow are
+    ///   fast states that no sample records (flapping settles in ≈ 3 samples at 50 Hz), so
+    ///   the rate responds as a second-order system at the sample scale; an ARX model of order
+    ///   2 in the rate (as PX4's `ArxRls<2, …>`) accounts for them. It makes the rate models
+    ///   need the sample before: see [`StateModel::prepare_in`].
+    ///
+    /// `D = 7`.
+    Flight,
+}
+
+impl RateStructure {
+    /// Consequent terms per rule.
+    pub const fn terms(self) -> usize {
+        match self {
+            Self::Paper => 2,
+            Self::Extended => 5,
+            Self::Flight => 7,
+        }
+    }
+
+    /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): rate products
+    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, collective 0.5, constants 1,
+    /// speeds 5 m/s, rate increments 1 deg/s; target `Δω` 1 deg/s per step.
+    pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
+        let nominal: &[f64] = match self {
+            Self::Paper => &[100.0, 0.05],
+            Self::Extended => &[100.0, 0.05, 10.0, 0.5, 1.0],
+            Self::Flight => &[100.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
+        };
+        let mut terms = [T::one(); D];
+        for (t, &n) in terms.iter_mut().zip(nominal) {
+            *t = T::lit(n);
+        }
+        Scaling {
+            terms,
+            target: T::one(),
+        }
+    }
+}
+
+/// An angular model (Eqs. 28–30): premise `[q r p](k)` (deg/s; or see [`Premise`]), one
+/// output, learnt by the TS estimator `E` (global or local, see [`Learning`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RateModel<T, const R: usize, const D: usize, E> {
+    ts: E,
+    axis: RateAxis,
+    structure: RateStructure,
+    premise: Premise,
+    _scalar: core::marker::PhantomData<T>,
+}
+
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateModel<T, R, D, E> {
+    /// A model of one body rate over the given rule base (premise `[q r p]`, deg/s), unscaled.
+    pub fn new(
+        axis: RateAxis,
+        rules: RuleBase<T, 3, R>,
+        structure: RateStructure,
+        config: RlsConfig<T>,
+    ) -> Result<Self, Error> {
+        Self::with_scaling(
+            axis,
+            rules,
+            structure,
+            Premise::Rates,
+            config,
+            Scaling::unit(),
+        )
+    }
+
+    /// A model over the given premise whose terms and target are divided by nominal scales
+    /// (see [`Scaling`]).
+    pub fn with_scaling(
+        axis: RateAxis,
+        rules: RuleBase<T, 3, R>,
+        structure: RateStructure,
+        premise: Premise,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Result<Self, Error> {
+        Self::check_new(structure, &config, &scaling)?;
+        Ok(Self::with_scaling_unchecked(
+            axis, rules, structure, premise, config, scaling,
+        ))
+    }
+
+    pub(crate) fn check_new(
+        structure: RateStructure,
+        config: &RlsConfig<T>,
+        scaling: &Scaling<T, D>,
+    ) -> Result<(), Error> {
+        check_terms(structure.terms(), D)?;
+        E::check_new(config, scaling)
+    }
+
+    #[inline(always)]
+    pub(crate) fn with_scaling_unchecked(
+        axis: RateAxis,
+        rules: RuleBase<T, 3, R>,
+        structure: RateStructure,
+        premise: Premise,
+        config: RlsConfig<T>,
+        scaling: Scaling<T, D>,
+    ) -> Self {
+        Self {
+            ts: E::build(rules, config, scaling),
+            axis,
+            structure,
+            premise,
+            _scalar: core::marker::PhantomData,
+        }
+    }
+
+    /// The consequent structure.
+    pub fn structure(&self) -> RateStructure {
+        self.structure
+    }
+
+    /// The premise variables.
+    pub fn premise(&self) -> Premise {
+        self.premise
+    }
+
+    /// How the consequents are learnt.
+    pub fn learning(&self) -> Learning {
+        E::LEARNING
+    }
+
+    /// The underlying TS model (rule base, parameters, covariance).
+    pub fn ts(&self) -> &E {
+        &self.ts
+    }
+
+    /// Which rate this model predicts.
+    pub fn axis(&self) -> RateAxis {
+        self.axis
+    }
+
+    /// The consequent terms `Δ` at sample k (with no sample before it: a second-order term
+    /// is 0).
+    pub fn terms(&self, s: &HoverSample<T>) -> [T; D] {
+        self.terms_in(s, &self.frame_for(s), &s.rates)
+    }
+
+    /// [`terms`](Self::terms) with the sample's body frame already computed and the rates
+    /// `[q r p]` of the sample before (deg/s).
+    pub fn terms_in(&self, s: &HoverSample<T>, frame: &BodyFrame<T>, before: &[T; 3]) -> [T; D] {
+        let [q, r, p] = s.rates;
+        let u = &s.controls;
+        let [cross, control] = match self.axis {
+            RateAxis::Pitch => [r * p, u.lon * u.col],
+            RateAxis::Yaw => [q * p, u.ped],
+            RateAxis::Roll => [q * r, u.lat * u.col],
+        };
+        let (speed, increment) = match self.structure {
+            RateStructure::Flight => {
+                let [forward, right, _] = Premise::HeadingVelocity.of(s, frame);
+                let speed = match self.axis {
+                    RateAxis::Pitch => forward,
+                    RateAxis::Yaw | RateAxis::Roll => right,
+                };
+                let earlier = before.get(self.axis.index()).copied();
+                (
+                    speed,
+                    self.rate(s) - earlier.unwrap_or_else(|| self.rate(s)),
+                )
+            }
+            _ => (T::zero(), T::zero()),
+        };
+        let all = [
+            cross,
+            control,
+            self.rate(s),
+            u.col,
+            T::one(),
+            speed,
+            increment,
+        ];
+        let used = self.structure.terms();
+        let mut terms = [T::zero(); D];
+        for (t, &x) in terms.iter_mut().zip(all.iter().take(used)) {
+            *t = x;
+        }
+        terms
+    }
+
+    fn rate(&self, s: &HoverSample<T>) -> T {
+        s.rates
+            .get(self.axis.index())
+            .copied()
+            .unwrap_or_else(T::zero)
+    }
+
+    /// The body frame, computed only for a premise or structure that needs it (the paper's
+    /// do not: their step stays free of trigonometry when called without a frame).
+    fn frame_for(&self, s: &HoverSample<T>) -> BodyFrame<T> {
+        match (self.premise, self.structure) {
+            (Premise::HeadingVelocity, _) | (_, RateStructure::Flight) => {
+                BodyFrame::of(&s.attitude)
+            }
+            _ => BodyFrame::identity(),
+        }
+    }
+}
+
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+    for RateModel<T, R, D, E>
+{
+    type Prepared = Prepared<T, R, D, 1>;
+    type State = E::State;
+
+    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
+        self.prepare_in(from, &self.frame_for(from), &from.rates, to)
+    }
+
+    fn prepare_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        to: &HoverSample<T>,
+    ) -> Result<Self::Prepared, Error> {
+        self.ts.prepare(
+            &self.premise.of(from, from_frame),
+            &[self.terms_in(from, from_frame, before)],
+            &[self.rate(to) - self.rate(from)],
+        )
+    }
+
+    fn predict_in(
+        &self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let [increment] = self.ts.predict_many(
+            &self.premise.of(from, from_frame),
+            &[self.terms_in(from, from_frame, before)],
+        )?;
+        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
+            *slot = self.rate(from) + increment;
+        }
+        Ok(())
+    }
+
+    fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
+        self.ts.apply(prepared);
+        if let Some(slot) = innovation.rates.get_mut(self.axis.index()) {
+            let [e] = prepared.innovations;
+            *slot = e;
+        }
+    }
+
+    fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
+        self.predict_in(from, &self.frame_for(from), &from.rates, next)
+    }
+
+    fn reset(&mut self) {
+        self.ts.reset();
+    }
+
+    fn export(&self) -> Self::State {
+        self.ts.export()
+    }
+
+    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
+        self.ts.import(state)
+    }
+
+    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+        self.ts.check_import(state)
+    }
+
+    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
+        self.ts
+            .reconfigure(config.rls, config.rate_scaling::<D>(self.structure))
+    }
+
+    fn rls_config(&self) -> &RlsConfig<T> {
+        self.ts.config()
+    }
+}

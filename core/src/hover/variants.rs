@@ -1,0 +1,340 @@
+//! The identifiers to use: the paper's (fuzzy and plain), the extended structures, local
+//! learning, and the flight default, as type aliases of [`HoverIdentifier`] with their
+//! constructors.
+
+use crate::error::Error;
+use crate::hover::config::HoverConfig;
+use crate::hover::identifier::{Chain, HoverIdentifier, Timing};
+use crate::hover::models::{
+    Premise, RateAxis, RateModel, RateStructure, VelocityModel, VelocityStructure,
+};
+use crate::hover::table3;
+use crate::learning::TsEstimator;
+use crate::local::LocalTsRls;
+use crate::rule_base::{PremiseSets, RuleBase};
+use crate::scalar::Real;
+use crate::ts::TsRls;
+
+/// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
+/// 54 + 36 + 18 + 18 parameters.
+pub type PaperFuzzyIdentifier<T> = HoverIdentifier<
+    T,
+    GlobalVelocityModel<T, 27, 2, 54, 1485>,
+    GlobalRateModel<T, 18, 2, 36, 666>,
+    GlobalRateModel<T, 9, 2, 18, 171>,
+    GlobalRateModel<T, 9, 2, 18, 171>,
+>;
+
+/// The paper's plain-RLS baseline (Eqs. 19 and 26): the same models with a single rule.
+pub type PaperPlainIdentifier<T> = HoverIdentifier<
+    T,
+    GlobalVelocityModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
+    GlobalRateModel<T, 1, 2, 2, 3>,
+>;
+
+/// The extended structure (damping and trim terms, [`RateStructure::Extended`],
+/// [`VelocityStructure::Extended`]) with fuzzy rule bases: Table 3's sets for the rates
+/// (18, 9, 9 rules × 5 terms) and Table 3's `ṽ_y` sets for the velocity (3 rules × 7 terms;
+/// the thrust per unit collective varies with the vertical inflow, while drag is linear).
+pub type ExtendedFuzzyIdentifier<T> = HoverIdentifier<
+    T,
+    GlobalVelocityModel<T, 3, 7, 21, 231>,
+    GlobalRateModel<T, 18, 5, 90, 4095>,
+    GlobalRateModel<T, 9, 5, 45, 1035>,
+    GlobalRateModel<T, 9, 5, 45, 1035>,
+>;
+
+/// The extended structure with a single rule per model (a linear model with damping and trim).
+pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
+    T,
+    GlobalVelocityModel<T, 1, 7, 7, 28>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
+    GlobalRateModel<T, 1, 5, 5, 15>,
+>;
+
+/// The paper's structure and Table 3's sets, every rule learnt locally (see
+/// [`crate::local`]): 27 + 18 + 9 + 9 rules of 2 terms.
+pub type PaperLocalIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 27, 2, 3>,
+    LocalRateModel<T, 18, 2, 3>,
+    LocalRateModel<T, 9, 2, 3>,
+    LocalRateModel<T, 9, 2, 3>,
+>;
+
+/// [`ExtendedFuzzyIdentifier`]'s structure and sets, every rule learnt locally.
+pub type ExtendedLocalIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 3, 7, 28>,
+    LocalRateModel<T, 18, 5, 15>,
+    LocalRateModel<T, 9, 5, 15>,
+    LocalRateModel<T, 9, 5, 15>,
+>;
+
+/// **The identifier to fly**: the extended structure, each model scheduled on the forward
+/// speed (the heading-frame velocity of [`Premise::HeadingVelocity`], sets on its first
+/// component only) with three rules learnt locally. See [`FlightIdentifier::flight`] and
+/// [`flight_sets`].
+///
+/// Why (docs/results.md has the evidence): a helicopter's rate and velocity dynamics change
+/// mainly with airspeed, so that is what the rules are scheduled on; local learning makes
+/// each rule a local linear model that stays sane where it is rarely visited; three rules of
+/// 7 and 5 terms keep the step cheap and the identifier small (f32: under 3 KiB).
+pub type FlightIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+    LocalRateModel<T, 3, 7, 28>,
+>;
+
+/// [`FlightIdentifier`]'s terms with one rule per model (local learning of one rule is the
+/// global one, bit for bit): the baseline that shows what the rules themselves add.
+pub type FlightPlainIdentifier<T> = HoverIdentifier<
+    T,
+    LocalVelocityModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+    LocalRateModel<T, 1, 7, 28>,
+>;
+
+/// The default forward-speed sets of [`FlightIdentifier`] (m/s): a left shoulder at hover
+/// (c = 0, σ = 2.5; it also takes backward flight), a Gaussian at 5 m/s (σ = 2.5) and a right
+/// shoulder from 10 m/s (σ = 2.5): a miniature helicopter's low-speed envelope in three
+/// regions that overlap at about μ = 0.6. For another aircraft or envelope, place them from a
+/// training flight with [`crate::premise::quantile_sets`] (`rotorid identify` does).
+pub fn flight_sets<T: Real>() -> PremiseSets<T> {
+    table3::three_sets((0.0, 2.5), (5.0, 2.5), (10.0, 2.5))
+}
+
+/// A translational model learnt globally (the paper's RLS over `N = R·D` parameters, `NP`
+/// packed covariance entries).
+pub type GlobalVelocityModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
+    VelocityModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
+/// An angular model learnt globally.
+pub type GlobalRateModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
+    RateModel<T, R, D, TsRls<T, 3, R, D, N, NP>>;
+/// A translational model learnt locally (each of the `R` rules its own RLS of `DP = D(D+1)/2`
+/// packed covariance entries).
+pub type LocalVelocityModel<T, const R: usize, const D: usize, const DP: usize> =
+    VelocityModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
+/// An angular model learnt locally.
+pub type LocalRateModel<T, const R: usize, const D: usize, const DP: usize> =
+    RateModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
+
+/// The premises of the four models (translational, q̂, r̂, p̂).
+#[derive(Copy, Clone)]
+struct Premises {
+    velocity: Premise,
+    rates: Premise,
+}
+
+impl Premises {
+    /// The paper's: `v^s` for the velocity, `[q r p]` for the rates.
+    const PAPER: Self = Self {
+        velocity: Premise::Velocity,
+        rates: Premise::Rates,
+    };
+}
+
+/// Builds the four models of an identifier from rule bases, structures and premises.
+#[allow(clippy::type_complexity)]
+fn build<
+    T: Real,
+    const RV: usize,
+    const DV: usize,
+    const RQ: usize,
+    const RR: usize,
+    const RP: usize,
+    const DA: usize,
+    EV: TsEstimator<T, 3, RV, DV>,
+    EQ: TsEstimator<T, 3, RQ, DA>,
+    ER: TsEstimator<T, 3, RR, DA>,
+    EP: TsEstimator<T, 3, RP, DA>,
+>(
+    config: HoverConfig<T>,
+    rules: (
+        RuleBase<T, 3, RV>,
+        RuleBase<T, 3, RQ>,
+        RuleBase<T, 3, RR>,
+        RuleBase<T, 3, RP>,
+    ),
+    velocity: VelocityStructure,
+    rate: RateStructure,
+    premises: Premises,
+) -> Result<
+    HoverIdentifier<
+        T,
+        VelocityModel<T, RV, DV, EV>,
+        RateModel<T, RQ, DA, EQ>,
+        RateModel<T, RR, DA, ER>,
+        RateModel<T, RP, DA, EP>,
+    >,
+    Error,
+> {
+    let c = config.rls;
+    let rs = config.rate_scaling::<DA>(rate);
+    let vs = config.velocity_scaling::<DV>(velocity);
+    let (pv, pr) = (premises.velocity, premises.rates);
+    // Everything is checked first; then the identifier is built as one expression from
+    // inlined infallible constructors, so the compiler writes the ~11 KB of arrays straight
+    // into the result instead of moving models through the stack.
+    config.validate()?;
+    VelocityModel::<T, RV, DV, EV>::check_new(velocity, &c, &vs)?;
+    RateModel::<T, RQ, DA, EQ>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RR, DA, ER>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RP, DA, EP>::check_new(rate, &c, &rs)?;
+    Ok(HoverIdentifier {
+        velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, pv, c, vs),
+        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rs),
+        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rs),
+        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rs),
+        timing: Timing::of(&config),
+        chain: Chain::empty(),
+    })
+}
+
+impl<T: Real> PaperFuzzyIdentifier<T> {
+    /// The paper's fuzzy identifier: Eqs. 27–30 with Table 3's sets.
+    pub fn paper_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> PaperPlainIdentifier<T> {
+    /// The paper's plain-RLS baseline: Eqs. 19 and 26, one rule per model.
+    pub fn paper_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let one = || RuleBase::single_rule();
+        let rules = (one()?, one()?, one()?, one()?);
+        build(
+            config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> ExtendedFuzzyIdentifier<T> {
+    /// The extended fuzzy identifier (see [`ExtendedFuzzyIdentifier`]).
+    pub fn extended_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::vertical_velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> ExtendedPlainIdentifier<T> {
+    /// The extended single-rule identifier (see [`ExtendedPlainIdentifier`]).
+    pub fn extended_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let one = || RuleBase::single_rule();
+        let rules = (one()?, one()?, one()?, one()?);
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> PaperLocalIdentifier<T> {
+    /// The paper's structure and sets, learnt locally.
+    pub fn paper_local(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Paper,
+            RateStructure::Paper,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> ExtendedLocalIdentifier<T> {
+    /// The extended structure with [`ExtendedFuzzyIdentifier`]'s sets, learnt locally.
+    pub fn extended_local(config: HoverConfig<T>) -> Result<Self, Error> {
+        let rules = (
+            table3::vertical_velocity()?,
+            table3::pitch_rate()?,
+            table3::yaw_rate()?,
+            table3::roll_rate()?,
+        );
+        build(
+            config,
+            rules,
+            VelocityStructure::Extended,
+            RateStructure::Extended,
+            Premises::PAPER,
+        )
+    }
+}
+
+impl<T: Real> FlightIdentifier<T> {
+    /// The flight identifier with the given forward-speed sets (m/s; three sets, e.g. from
+    /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models.
+    pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
+        let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
+        let rules = (base()?, base()?, base()?, base()?);
+        build(
+            config,
+            rules,
+            VelocityStructure::Flight,
+            RateStructure::Flight,
+            Premises {
+                velocity: Premise::HeadingVelocity,
+                rates: Premise::HeadingVelocity,
+            },
+        )
+    }
+}
+
+impl<T: Real> FlightPlainIdentifier<T> {
+    /// [`FlightIdentifier`]'s terms and premise with a single rule per model.
+    pub fn flight_plain(config: HoverConfig<T>) -> Result<Self, Error> {
+        let one = || RuleBase::single_rule();
+        build(
+            config,
+            (one()?, one()?, one()?, one()?),
+            VelocityStructure::Flight,
+            RateStructure::Flight,
+            Premises {
+                velocity: Premise::HeadingVelocity,
+                rates: Premise::HeadingVelocity,
+            },
+        )
+    }
+}
