@@ -7,24 +7,16 @@
 use core::fmt;
 
 /// Which input quantity a rejected value belongs to.
+///
+/// The generic layers (RLS, TS models, rule bases) name their own inputs here; the fields of
+/// the helicopter's measured sample are one variant, [`Quantity::Sample`], whose names live
+/// with the sample ([`SampleField`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Quantity {
-    /// Roll angle φ (rad).
-    Roll,
-    /// Pitch angle θ (rad).
-    Pitch,
-    /// Yaw angle ψ (rad).
-    Yaw,
-    /// Inertial velocity component `v^s[index]` (m/s, paper axes: x east, y up, z south).
-    Velocity(u8),
-    /// Body rate `ω^b[index]` of `[q r p]` (deg/s).
-    Rate(u8),
-    /// Control `u[index]` of `[u_col u_ped u_lon u_lat]` (normalised, −1…1).
-    Control(u8),
-    /// Sample time stamp (µs).
-    Time,
+    /// A field of the measured sample ([`HoverSample`](crate::hover::HoverSample)).
+    Sample(SampleField),
     /// Premise variable `x[index]` of a rule base.
     Premise(u8),
     /// Regressor entry `ξ[index]`.
@@ -37,6 +29,14 @@ pub enum Quantity {
     Covariance(u16),
     /// A configuration value (membership centre or spread, α, λ, bounds, sweep settings).
     Config,
+}
+
+pub use crate::hover::SampleField;
+
+impl From<SampleField> for Quantity {
+    fn from(f: SampleField) -> Self {
+        Quantity::Sample(f)
+    }
 }
 
 /// Why a configuration was refused.
@@ -110,26 +110,8 @@ pub enum Error {
 
 impl fmt::Display for Quantity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        const RATES: [&str; 3] = ["q", "r", "p"];
-        const CONTROLS: [&str; 4] = ["u_col", "u_ped", "u_lon", "u_lat"];
-        const AXES: [&str; 3] = ["x", "y", "z"];
         match *self {
-            Quantity::Roll => f.write_str("roll φ (rad)"),
-            Quantity::Pitch => f.write_str("pitch θ (rad)"),
-            Quantity::Yaw => f.write_str("yaw ψ (rad)"),
-            Quantity::Velocity(i) => match AXES.get(usize::from(i)) {
-                Some(a) => write!(f, "velocity v_{a} (m/s)"),
-                None => write!(f, "velocity[{i}] (m/s)"),
-            },
-            Quantity::Rate(i) => match RATES.get(usize::from(i)) {
-                Some(a) => write!(f, "body rate {a} (deg/s)"),
-                None => write!(f, "body rate[{i}] (deg/s)"),
-            },
-            Quantity::Control(i) => match CONTROLS.get(usize::from(i)) {
-                Some(a) => write!(f, "control {a}"),
-                None => write!(f, "control[{i}]"),
-            },
-            Quantity::Time => f.write_str("time stamp (µs)"),
+            Quantity::Sample(field) => write!(f, "{field}"),
             Quantity::Premise(i) => write!(f, "premise variable x[{i}]"),
             Quantity::Regressor(i) => write!(f, "regressor ξ[{i}]"),
             Quantity::Target(i) => write!(f, "target y[{i}]"),

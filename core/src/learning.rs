@@ -4,7 +4,7 @@
 
 use crate::error::Error;
 use crate::local::{LocalState, LocalTsRls};
-use crate::rls::{RlsConfig, RlsState};
+use crate::rls::{RlsConfig, RlsState, RlsView};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling, TsRls};
@@ -66,6 +66,9 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     fn check_import(&self, state: &Self::State) -> Result<(), Error>;
     /// New settings and scales, starting afresh. On `Err` nothing changed.
     fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error>;
+    /// Calls `f` with a view of each RLS estimator, in export order (one when learnt
+    /// globally; one per rule, rule 0 first, when learnt locally).
+    fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>));
 }
 
 impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, const NP: usize>
@@ -123,6 +126,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
         self.reconfigure(config, scaling)
     }
+    fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
+        f(self.rls().view())
+    }
 }
 
 impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
@@ -179,5 +185,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     }
     fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
         self.reconfigure(config, scaling)
+    }
+    fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
+        for rule in (0..R).filter_map(|i| self.rule(i)) {
+            f(rule.view())
+        }
     }
 }

@@ -44,7 +44,7 @@ pub use hover::{
 pub use learning::{Learning, TsEstimator};
 pub use local::LocalTsRls;
 pub use membership::MembershipFunction;
-pub use rls::{Algorithm, Rls, RlsConfig, RlsState};
+pub use rls::{Algorithm, Rls, RlsConfig, RlsState, RlsView};
 pub use rule_base::RuleBase;
 pub use scalar::Real;
 pub use ts::{Scaling, TsRls};

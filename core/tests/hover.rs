@@ -2,6 +2,7 @@
 use nalgebra::{Rotation3, Vector3};
 use rotorid::frames::{self, NedFrdSample};
 use rotorid::hover::rotor_axis;
+use rotorid::hover::SampleField;
 use rotorid::hover::{Attitude, Controls, HoverSample};
 use rotorid::sweep::{Channel, Sweep, SweepSchedule, C2_EXACT};
 use rotorid::{Error, HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier, Quantity};
@@ -173,7 +174,7 @@ fn rejected_samples_leave_the_identifier_unchanged() {
                 s.attitude.roll = f32::NAN;
                 s
             },
-            Error::NonFinite(Quantity::Roll),
+            Error::NonFinite(Quantity::Sample(SampleField::Roll)),
         ),
         (
             {
@@ -181,7 +182,7 @@ fn rejected_samples_leave_the_identifier_unchanged() {
                 s.attitude.pitch = 2.0;
                 s
             },
-            Error::OutOfRange(Quantity::Pitch),
+            Error::OutOfRange(Quantity::Sample(SampleField::Pitch)),
         ),
         (
             {
@@ -189,7 +190,7 @@ fn rejected_samples_leave_the_identifier_unchanged() {
                 s.velocity[2] = f32::NEG_INFINITY;
                 s
             },
-            Error::NonFinite(Quantity::Velocity(2)),
+            Error::NonFinite(Quantity::Sample(SampleField::Velocity(2))),
         ),
         (
             {
@@ -197,7 +198,7 @@ fn rejected_samples_leave_the_identifier_unchanged() {
                 s.rates[1] = 5000.0;
                 s
             },
-            Error::OutOfRange(Quantity::Rate(1)),
+            Error::OutOfRange(Quantity::Sample(SampleField::Rate(1))),
         ),
         (
             {
@@ -205,7 +206,7 @@ fn rejected_samples_leave_the_identifier_unchanged() {
                 s.controls.lat = 1.5;
                 s
             },
-            Error::OutOfRange(Quantity::Control(3)),
+            Error::OutOfRange(Quantity::Sample(SampleField::Control(3))),
         ),
         (
             {

@@ -21,19 +21,30 @@ use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::HoverSnapshot;
-use rotorid::hover::StateModel;
-use rotorid::rls::Rls;
+use rotorid::hover::{HoverModels, StateModel};
 use rotorid::sweep::SweepSchedule;
-use rotorid::RlsState;
 use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
+use rotorid::{RlsState, RlsView};
 use rotorid_link::msg::{
-    self, DataChunk, IdOutput, Ident, ModelView, MsgType, NackReason, ParamField, ParamsChunk,
+    self, DataChunk, IdOutput, Ident, MsgType, NackReason, ParamField, ParamsChunk, Payload,
     RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Reader, Writer};
 
-/// Bytes of the plain identifier's snapshot stream: 4 models × (5 + 4 × (2 + 3)).
-pub const PLAIN_SNAPSHOT_LEN: usize = 4 * (5 + 4 * (2 + 3));
+/// Bytes of the plain identifier's snapshot stream (its four models' states).
+pub const PLAIN_SNAPSHOT_LEN: usize = stream_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
+    + stream_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
+    + stream_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
+    + stream_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
+
+/// Why a `Reset` was not carried out.
+#[derive(Clone, Copy, Debug, PartialEq, defmt::Format)]
+pub enum ResetError {
+    /// An identifier failed to build at start-up (not expected: their settings are constants).
+    IdentifierMissing,
+    /// The core refused the new settings.
+    Core(Error),
+}
 
 /// Staging area of an import into the plain identifier.
 struct ImportStage {
@@ -57,25 +68,41 @@ pub struct Identification {
     fuzzy_stage: Option<FuzzyImport>,
 }
 
-/// Bytes of the fuzzy identifier's snapshot stream: 4 models × (5 + 4 × (N + NP)).
-pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
-const MODEL_N: [usize; 4] = [54, 36, 18, 18];
+/// The state types of the two identifiers' models, named through the identifiers' types
+/// (their sizes are written nowhere else).
+type StateOf<M> = <M as StateModel<f32>>::State;
+type FuzzyV = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Velocity>;
+type FuzzyQ = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Pitch>;
+type FuzzyR = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Yaw>;
+type FuzzyP = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Roll>;
+type PlainV = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Velocity>;
+type PlainQ = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Pitch>;
+type PlainR = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Yaw>;
+type PlainP = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Roll>;
+
+/// Bytes of one model in the snapshot stream: algorithm u8, updates u32, θ, factor (f32 each).
+const fn stream_len(parameters: usize, factor: usize) -> usize {
+    5 + 4 * (parameters + factor)
+}
+
 const MODEL_LEN: [usize; 4] = [
-    5 + 4 * (54 + 1485),
-    5 + 4 * (36 + 666),
-    5 + 4 * (18 + 171),
-    5 + 4 * (18 + 171),
+    stream_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
+    stream_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
+    stream_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
+    stream_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
 ];
+/// Bytes of the fuzzy identifier's snapshot stream.
+pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
 
 /// The model of a fuzzy import being received.
 // Sized by the velocity model on purpose: this is the static staging area (no allocator),
 // one model at a time.
 #[allow(clippy::large_enum_variant)]
 enum FuzzyModel {
-    V(RlsState<f32, 54, 1485>),
-    Q(RlsState<f32, 36, 666>),
-    R(RlsState<f32, 18, 171>),
-    P(RlsState<f32, 18, 171>),
+    V(FuzzyV),
+    Q(FuzzyQ),
+    R(FuzzyR),
+    P(FuzzyP),
 }
 
 /// A fuzzy import in progress (one model staged at a time).
@@ -119,10 +146,9 @@ fn store_state_byte(
 ) -> bool {
     match pos {
         0 => {
-            *algorithm = match b {
-                0 => rotorid::Algorithm::Covariance,
-                1 => rotorid::Algorithm::UdFactor,
-                _ => return false,
+            *algorithm = match rotorid::Algorithm::from_code(b) {
+                Some(a) => a,
+                None => return false,
             };
         }
         1..=4 => {
@@ -303,11 +329,11 @@ impl Identification {
     /// `Reset`: both identifiers back to θ = 0, P = αI in `form`. A new form is set in place
     /// ([`rotorid::HoverIdentifier::reconfigure`]): nothing is rebuilt or moved, so a Reset
     /// costs no stack beyond the call itself.
-    pub fn reset(&mut self, form: RlsForm) -> Result<(), Error> {
+    pub fn reset(&mut self, form: RlsForm) -> Result<(), ResetError> {
         self.stage = None;
         self.fuzzy_stage = None;
         let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) else {
-            return Err(Error::Numerical);
+            return Err(ResetError::IdentifierMissing);
         };
         if form == self.form {
             f.reset();
@@ -316,8 +342,8 @@ impl Identification {
         }
         let c = config(form);
         // Both validate the same settings: the second cannot fail after the first passed.
-        f.reconfigure(c)?;
-        p.reconfigure(c)?;
+        f.reconfigure(c).map_err(ResetError::Core)?;
+        p.reconfigure(c).map_err(ResetError::Core)?;
         self.form = form;
         Ok(())
     }
@@ -329,26 +355,26 @@ impl Identification {
             Ident::Plain => self.plain_views(),
             _ => self.fuzzy_views(),
         }?;
-        Some(views.map(|v| v.theta))
+        Some(views.map(|v| v.parameters()))
     }
 
-    fn fuzzy_views(&self) -> Option<[ModelView<'_>; 4]> {
+    fn fuzzy_views(&self) -> Option<[RlsView<'_, f32>; 4]> {
         let f = self.fuzzy.as_ref().ok()?;
         Some([
-            view(f.velocity_model().ts().rls()),
-            view(f.pitch_model().ts().rls()),
-            view(f.yaw_model().ts().rls()),
-            view(f.roll_model().ts().rls()),
+            f.velocity_model().ts().rls().view(),
+            f.pitch_model().ts().rls().view(),
+            f.yaw_model().ts().rls().view(),
+            f.roll_model().ts().rls().view(),
         ])
     }
 
-    fn plain_views(&self) -> Option<[ModelView<'_>; 4]> {
+    fn plain_views(&self) -> Option<[RlsView<'_, f32>; 4]> {
         let p = self.plain.as_ref().ok()?;
         Some([
-            view(p.velocity_model().ts().rls()),
-            view(p.pitch_model().ts().rls()),
-            view(p.yaw_model().ts().rls()),
-            view(p.roll_model().ts().rls()),
+            p.velocity_model().ts().rls().view(),
+            p.pitch_model().ts().rls().view(),
+            p.yaw_model().ts().rls().view(),
+            p.roll_model().ts().rls().view(),
         ])
     }
 
@@ -356,16 +382,10 @@ impl Identification {
     pub fn params(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
         match (ident, &self.fuzzy, &self.plain) {
             (Ident::Plain, _, Ok(p)) => {
-                send_model_params(out, ident, 0, p.velocity_model().ts().rls());
-                send_model_params(out, ident, 1, p.pitch_model().ts().rls());
-                send_model_params(out, ident, 2, p.yaw_model().ts().rls());
-                send_model_params(out, ident, 3, p.roll_model().ts().rls());
+                p.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
             (Ident::Fuzzy, Ok(f), _) => {
-                send_model_params(out, ident, 0, f.velocity_model().ts().rls());
-                send_model_params(out, ident, 1, f.pitch_model().ts().rls());
-                send_model_params(out, ident, 2, f.yaw_model().ts().rls());
-                send_model_params(out, ident, 3, f.roll_model().ts().rls());
+                f.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
             _ => out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused),
         }
@@ -557,7 +577,7 @@ impl Identification {
         if st.received < st.total as usize {
             return Ok(());
         }
-        let done = st.model == MODEL_N.len();
+        let done = st.model == MODEL_LEN.len();
         let crc_ok = st.digest.clone().finalize() == st.crc;
         if done && crc_ok {
             // Complete: nothing to undo any more.
@@ -592,21 +612,7 @@ impl Identification {
     }
 }
 
-fn view<const N: usize, const NP: usize>(rls: &Rls<f32, N, NP>) -> ModelView<'_> {
-    ModelView {
-        algorithm: rls.config().algorithm,
-        updates: rls.counters().updates,
-        theta: rls.parameters(),
-        factor: rls.packed_factor(),
-    }
-}
-
-type PlainSnapshot = HoverSnapshot<
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
-    rotorid::RlsState<f32, 2, 3>,
->;
+type PlainSnapshot = HoverSnapshot<PlainV, PlainQ, PlainR, PlainP>;
 
 fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
     let mut r = Reader::new(bytes);
@@ -623,46 +629,34 @@ fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
     })
 }
 
-/// Sends one model's θ, diag(P) and summary as `Params` chunks.
-fn send_model_params<const N: usize, const NP: usize>(
-    out: &mut dyn Reply,
-    ident: Ident,
-    model: u8,
-    rls: &Rls<f32, N, NP>,
-) {
-    let diag = rls.covariance_diagonal();
-    for (field, values) in [
-        (ParamField::Theta, rls.parameters()),
-        (ParamField::CovarianceDiagonal, &diag),
-    ] {
-        for (i, part) in values.chunks(ParamsChunk::MAX_WORDS).enumerate() {
+/// Sends one estimator's θ, diag(P) and summary as `Params` chunks. Size-erased (an
+/// [`RlsView`]): one copy serves every model of both identifiers.
+fn send_model_params(out: &mut dyn Reply, ident: Ident, model: u8, rls: &RlsView<'_, f32>) {
+    let n = rls.len();
+    for field in [ParamField::Theta, ParamField::CovarianceDiagonal] {
+        let value = |i: usize| match field {
+            ParamField::Theta => rls.parameters().get(i).copied(),
+            _ => rls.covariance_diagonal_entry(i),
+        };
+        for start in (0..n).step_by(ParamsChunk::MAX_WORDS) {
+            let end = n.min(start + ParamsChunk::MAX_WORDS);
             let mut words = [0u8; 4 * ParamsChunk::MAX_WORDS];
-            for (dst, v) in words.chunks_exact_mut(4).zip(part) {
+            for (dst, i) in words.chunks_exact_mut(4).zip(start..end) {
+                let v = value(i).unwrap_or(0.0);
                 dst.copy_from_slice(&v.to_bits().to_le_bytes());
             }
             let c = ParamsChunk {
                 ident,
                 model,
                 field,
-                index: (i * ParamsChunk::MAX_WORDS) as u16,
-                total: N as u16,
-                words: words.get(..4 * part.len()).unwrap_or_default(),
+                index: start as u16,
+                total: n as u16,
+                words: words.get(..4 * (end - start)).unwrap_or_default(),
             };
             out.reply(MsgType::Params, &mut |w| c.write(w));
         }
     }
-    let counters = rls.counters();
-    let algorithm = match rls.config().algorithm {
-        rotorid::Algorithm::Covariance => 0u32,
-        rotorid::Algorithm::UdFactor => 1,
-    };
-    let summary = [
-        rls.trace().to_bits(),
-        counters.updates,
-        counters.windup_guards,
-        counters.numerical_skips,
-        algorithm,
-    ];
+    let summary = msg::summary_words(rls);
     let mut words = [0u8; 4 * ParamsChunk::SUMMARY_WORDS];
     for (dst, v) in words.chunks_exact_mut(4).zip(summary) {
         dst.copy_from_slice(&v.to_le_bytes());

@@ -11,7 +11,7 @@ use embedded_io::{Read, Write};
 use rotorid_link::{
     msg::{
         Ack, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest, MemoryReport,
-        MsgType, Nack, NackReason, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
+        MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
@@ -230,7 +230,7 @@ fn handle<U: Write, P: Platform, T: Write>(
     out: &mut Out<'_, U>,
 ) {
     let (seq, code) = (frame.seq, frame.msg_type);
-    match frame.kind() {
+    match MsgType::from_u8(frame.msg_type) {
         Some(MsgType::Sample) => match SampleMsg::read(frame.payload) {
             Ok(m) => {
                 let est = engine.sample(&m, &mut |f| platform.measure(f).1);

@@ -21,7 +21,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use rotorid_link::msg::{CostReport, CostRequest, Hello, MsgType, StatsReport, Workload};
+use rotorid_link::msg::{CostReport, CostRequest, Hello, MsgType, Payload, StatsReport, Workload};
 use rotorid_link::{
     encode_frame, EncodeError, Feed, FrameDecoder, FrameEncoder, LinkStats, Writer, MAX_PAYLOAD,
     MAX_WIRE_LEN,

@@ -13,8 +13,8 @@ use std::fmt;
 use rotorid::hover::HoverSample;
 use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
 use rotorid_link::msg::{
-    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, ModelView,
-    MsgType, Nack, ParamField, ParamsChunk, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
+    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, MsgType, Nack,
+    ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
     SweepStart,
 };
 use rotorid_link::Writer;
@@ -220,26 +220,10 @@ pub struct ModelParams {
 pub type Params = [ModelParams; 4];
 
 fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelParams {
-    let c = r.counters();
     ModelParams {
         theta: r.parameters().to_vec(),
         diagonal: r.covariance_diagonal().to_vec(),
-        summary: [
-            r.trace().to_bits(),
-            c.updates,
-            c.windup_guards,
-            c.numerical_skips,
-            u32::from(r.config().algorithm == rotorid::Algorithm::UdFactor),
-        ],
-    }
-}
-
-fn view<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelView<'_> {
-    ModelView {
-        algorithm: r.config().algorithm,
-        updates: r.counters().updates,
-        theta: r.parameters(),
-        factor: r.packed_factor(),
+        summary: msg::summary_words(&r.view()),
     }
 }
 
@@ -274,19 +258,19 @@ impl Mirror {
             Ident::Plain => {
                 let p = &self.plain;
                 [
-                    view(p.velocity_model().ts().rls()),
-                    view(p.pitch_model().ts().rls()),
-                    view(p.yaw_model().ts().rls()),
-                    view(p.roll_model().ts().rls()),
+                    p.velocity_model().ts().rls().view(),
+                    p.pitch_model().ts().rls().view(),
+                    p.yaw_model().ts().rls().view(),
+                    p.roll_model().ts().rls().view(),
                 ]
             }
             _ => {
                 let f = &self.fuzzy;
                 [
-                    view(f.velocity_model().ts().rls()),
-                    view(f.pitch_model().ts().rls()),
-                    view(f.yaw_model().ts().rls()),
-                    view(f.roll_model().ts().rls()),
+                    f.velocity_model().ts().rls().view(),
+                    f.pitch_model().ts().rls().view(),
+                    f.yaw_model().ts().rls().view(),
+                    f.roll_model().ts().rls().view(),
                 ]
             }
         };

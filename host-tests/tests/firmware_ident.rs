@@ -12,7 +12,9 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rotorid::hover::HoverSample;
 use rotorid::sweep::SweepSchedule;
-use rotorid_link::msg::{Ident, MsgType, NackReason, RlsForm, SampleMode, SampleMsg, SweepStart};
+use rotorid_link::msg::{
+    Ident, MsgType, NackReason, Payload, RlsForm, SampleMode, SampleMsg, SweepStart,
+};
 
 fn hex_all(xs: &[f32]) -> String {
     xs.iter()

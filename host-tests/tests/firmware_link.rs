@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use host_tests::firmware_link::{wire_frame, FirmwareLink};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rotorid_link::msg::{MsgType, Nack, NackReason, Workload};
+use rotorid_link::msg::{MsgType, Nack, NackReason, Payload, Workload};
 use rotorid_link::{FrameDecoder, MAX_PAYLOAD};
 
 /// Bitwise CRC-32/ISO-HDLC, independent of the `crc` crate, to forge unknown-version frames.

@@ -1,6 +1,7 @@
 //! Property tests of the core (proptest).
 use host_tests::golden;
 use proptest::prelude::*;
+use rotorid::hover::SampleField;
 use rotorid::hover::{HoverSample, SampleLimits};
 use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Rls, RlsConfig};
@@ -101,15 +102,15 @@ proptest! {
         let bad_value = match kind { 0 => f32::NAN, 1 => f32::INFINITY, 2 => f32::NEG_INFINITY, _ => 1e5 };
         let mut s: HoverSample<f32> = inputs[warmup];
         let (slot, q): (&mut f32, Quantity) = match field {
-            0 => (&mut s.attitude.roll, Quantity::Roll),
-            1 => (&mut s.attitude.pitch, Quantity::Pitch),
-            2 => (&mut s.attitude.yaw, Quantity::Yaw),
-            3..=5 => (&mut s.velocity[field - 3], Quantity::Velocity((field - 3) as u8)),
-            6..=8 => (&mut s.rates[field - 6], Quantity::Rate((field - 6) as u8)),
-            9 => (&mut s.controls.col, Quantity::Control(0)),
-            10 => (&mut s.controls.ped, Quantity::Control(1)),
-            11 => (&mut s.controls.lon, Quantity::Control(2)),
-            _ => (&mut s.controls.lat, Quantity::Control(3)),
+            0 => (&mut s.attitude.roll, Quantity::Sample(SampleField::Roll)),
+            1 => (&mut s.attitude.pitch, Quantity::Sample(SampleField::Pitch)),
+            2 => (&mut s.attitude.yaw, Quantity::Sample(SampleField::Yaw)),
+            3..=5 => (&mut s.velocity[field - 3], Quantity::Sample(SampleField::Velocity((field - 3) as u8))),
+            6..=8 => (&mut s.rates[field - 6], Quantity::Sample(SampleField::Rate((field - 6) as u8))),
+            9 => (&mut s.controls.col, Quantity::Sample(SampleField::Control(0))),
+            10 => (&mut s.controls.ped, Quantity::Sample(SampleField::Control(1))),
+            11 => (&mut s.controls.lon, Quantity::Sample(SampleField::Control(2))),
+            _ => (&mut s.controls.lat, Quantity::Sample(SampleField::Control(3))),
         };
         *slot = bad_value;
         let expected = if kind == 3 { Error::OutOfRange(q) } else { Error::NonFinite(q) };

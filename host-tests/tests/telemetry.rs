@@ -1,6 +1,7 @@
 //! Property tests of `rotorid_link` framing.
 
 use proptest::prelude::*;
+use rotorid_link::msg::Payload;
 use rotorid_link::{
     encode_frame, FrameDecoder, FrameError, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_WIRE_LEN,
 };

@@ -4,6 +4,7 @@
 //! The core's errors are `#[non_exhaustive]`: an error added to the core after this library was
 //! written reads as [`ROTORID_E_UNKNOWN`] until a code is given to it here.
 
+use rotorid::hover::SampleField;
 use rotorid::{ConfigError, Error, Quantity};
 
 /// Success.
@@ -136,13 +137,16 @@ impl rotorid_error_t {
 
 fn quantity(q: Quantity) -> (u32, u32) {
     match q {
-        Quantity::Roll => (ROTORID_QUANTITY_ROLL, 0),
-        Quantity::Pitch => (ROTORID_QUANTITY_PITCH, 0),
-        Quantity::Yaw => (ROTORID_QUANTITY_YAW, 0),
-        Quantity::Velocity(i) => (ROTORID_QUANTITY_VELOCITY, i.into()),
-        Quantity::Rate(i) => (ROTORID_QUANTITY_RATE, i.into()),
-        Quantity::Control(i) => (ROTORID_QUANTITY_CONTROL, i.into()),
-        Quantity::Time => (ROTORID_QUANTITY_TIME, 0),
+        Quantity::Sample(field) => match field {
+            SampleField::Roll => (ROTORID_QUANTITY_ROLL, 0),
+            SampleField::Pitch => (ROTORID_QUANTITY_PITCH, 0),
+            SampleField::Yaw => (ROTORID_QUANTITY_YAW, 0),
+            SampleField::Velocity(i) => (ROTORID_QUANTITY_VELOCITY, i.into()),
+            SampleField::Rate(i) => (ROTORID_QUANTITY_RATE, i.into()),
+            SampleField::Control(i) => (ROTORID_QUANTITY_CONTROL, i.into()),
+            SampleField::Time => (ROTORID_QUANTITY_TIME, 0),
+            _ => (ROTORID_QUANTITY_UNKNOWN, 0),
+        },
         Quantity::Premise(i) => (ROTORID_QUANTITY_PREMISE, i.into()),
         Quantity::Regressor(i) => (ROTORID_QUANTITY_REGRESSOR, i.into()),
         Quantity::Target(i) => (ROTORID_QUANTITY_TARGET, i.into()),
@@ -272,8 +276,8 @@ mod tests {
     #[test]
     fn every_core_error_has_its_own_code() {
         let errors = [
-            Error::NonFinite(Quantity::Rate(2)),
-            Error::OutOfRange(Quantity::Control(3)),
+            Error::NonFinite(Quantity::Sample(SampleField::Rate(2))),
+            Error::OutOfRange(Quantity::Sample(SampleField::Control(3))),
             Error::TimeStep {
                 dt_us: 1,
                 min_us: 2,
@@ -310,7 +314,7 @@ mod tests {
         codes.sort_unstable();
         codes.dedup();
         assert_eq!(codes.len(), errors.len(), "two errors share a code");
-        let d = rotorid_error_t::from(Error::NonFinite(Quantity::Rate(2)));
+        let d = rotorid_error_t::from(Error::NonFinite(Quantity::Sample(SampleField::Rate(2))));
         assert_eq!((d.quantity, d.index), (ROTORID_QUANTITY_RATE, 2));
         let d = rotorid_error_t::from(errors[2]);
         assert_eq!((d.dt_us, d.min_us, d.max_us), (1, 2, 3));

@@ -14,7 +14,7 @@
 //! anything.
 
 use rotorid::hover::StateModel;
-use rotorid::rls::{Algorithm, RlsState};
+use rotorid::rls::{Algorithm, RlsState, RlsView};
 use rotorid::{Error, HoverIdentifier};
 
 /// Length of the export header: magic, format version, kind.
@@ -29,8 +29,6 @@ pub(crate) trait Wire: Copy {
     const LEN: usize;
     /// A value to decode into (contents irrelevant).
     fn blank() -> Self;
-    /// Writes the byte form; `out` holds at least `LEN` bytes.
-    fn put(&self, out: &mut Out<'_>);
     /// Reads the byte form into `self`, in place (a state can be kilobytes: no copies on the
     /// stack); `Incompatible` when too short or not a valid form.
     fn read(&mut self, input: &mut In<'_>) -> Result<(), Error>;
@@ -98,24 +96,11 @@ impl<const N: usize, const NP: usize> Wire for RlsState<f32, N, NP> {
         }
     }
 
-    fn put(&self, out: &mut Out<'_>) {
-        let algorithm: u32 = match self.algorithm {
-            Algorithm::Covariance => 0,
-            Algorithm::UdFactor => 1,
-        };
-        out.word(algorithm.to_le_bytes());
-        out.word(self.updates.to_le_bytes());
-        for x in self.theta.iter().chain(self.factor.iter()) {
-            out.word(x.to_bits().to_le_bytes());
-        }
-    }
-
     fn read(&mut self, input: &mut In<'_>) -> Result<(), Error> {
-        self.algorithm = match input.u32()? {
-            0 => Algorithm::Covariance,
-            1 => Algorithm::UdFactor,
-            _ => return Err(Error::Incompatible),
-        };
+        self.algorithm = u8::try_from(input.u32()?)
+            .ok()
+            .and_then(Algorithm::from_code)
+            .ok_or(Error::Incompatible)?;
         self.updates = input.u32()?;
         for x in self.theta.iter_mut().chain(self.factor.iter_mut()) {
             *x = f32::from_bits(input.u32()?);
@@ -129,12 +114,6 @@ impl<S: Wire, const R: usize> Wire for [S; R] {
 
     fn blank() -> Self {
         [S::blank(); R]
-    }
-
-    fn put(&self, out: &mut Out<'_>) {
-        for s in self {
-            s.put(out);
-        }
     }
 
     fn read(&mut self, input: &mut In<'_>) -> Result<(), Error> {
@@ -172,21 +151,22 @@ where
     w.word(MAGIC);
     w.word(ROTORID_EXPORT_VERSION.to_le_bytes());
     w.word(kind.to_le_bytes());
-    put_model(id.velocity_model(), &mut w);
-    put_model(id.pitch_model(), &mut w);
-    put_model(id.yaw_model(), &mut w);
-    put_model(id.roll_model(), &mut w);
+    // Straight from the estimators (no copy of a state on the stack), in export order.
+    id.for_each_rls(|_, _, v| put_view(&v, &mut w));
     Ok(len)
 }
 
-// One model per call and never inlined: the stack holds one model's state at a time, never
-// four (a firmware's stack is small; the paper's fuzzy velocity model alone is 6 KiB).
-
-#[inline(never)]
-fn put_model<M: StateModel<f32, State: Wire>>(m: &M, w: &mut Out<'_>) {
-    m.export().put(w);
+/// One estimator's byte form: algorithm, updates, θ, packed factor.
+fn put_view(v: &RlsView<'_, f32>, w: &mut Out<'_>) {
+    w.word(u32::from(v.algorithm().code()).to_le_bytes());
+    w.word(v.counters().updates.to_le_bytes());
+    for x in v.parameters().iter().chain(v.packed_factor()) {
+        w.word(x.to_bits().to_le_bytes());
+    }
 }
 
+// Import: one model per call and never inlined, so that the stack holds one model's staged
+// state at a time, never four (the paper's fuzzy velocity model alone is 6 KiB).
 #[inline(never)]
 fn check_model<M: StateModel<f32, State: Wire>>(m: &M, r: &mut In<'_>) -> Result<(), Error> {
     let mut s = M::State::blank();

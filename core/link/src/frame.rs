@@ -1,10 +1,13 @@
-//! Frame encoder, streaming decoder, error kinds and link counters.
+//! Frame encoder, streaming decoder and error kinds.
 
 use core::fmt;
 
+use crate::cobs_decode::cobs_decode_in_place;
+use crate::{LinkStats, SeqTracker};
+
 use super::{
-    msg::MsgType, CRC, CRC_LEN, DELIMITER, HEADER_LEN, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_RAW_LEN,
-    MIN_RAW_LEN, VERSION,
+    CRC, CRC_LEN, DELIMITER, HEADER_LEN, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_RAW_LEN, MIN_RAW_LEN,
+    VERSION,
 };
 
 /// Why a frame could not be encoded.
@@ -93,171 +96,12 @@ impl core::error::Error for FrameError {}
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Frame<'a> {
-    /// Message type byte; see [`MsgType`].
+    /// Message type byte (the catalogue, `msg::MsgType`, names the known ones).
     pub msg_type: u8,
     /// Sender's sequence number (wrapping, one counter per direction).
     pub seq: u16,
     /// Payload, at most [`MAX_PAYLOAD`](super::MAX_PAYLOAD) bytes.
     pub payload: &'a [u8],
-}
-
-impl Frame<'_> {
-    /// The message type, if this build knows it.
-    pub fn kind(&self) -> Option<MsgType> {
-        MsgType::from_u8(self.msg_type)
-    }
-}
-
-/// Counters of one receiving direction of a link. All counters wrap at `u32::MAX`.
-///
-/// Every delimiter-terminated, non-empty chunk of bytes ends up in exactly one of
-/// `frames_ok`, `cobs_errors`, `crc_errors`, `too_short`, `oversized` or `unknown_version`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LinkStats {
-    /// Valid frames delivered.
-    pub frames_ok: u32,
-    /// Chunks rejected as invalid COBS.
-    pub cobs_errors: u32,
-    /// Chunks rejected for a CRC mismatch.
-    pub crc_errors: u32,
-    /// Chunks shorter than header + CRC.
-    pub too_short: u32,
-    /// Chunks longer than the receive buffer (dropped up to the next delimiter).
-    pub oversized: u32,
-    /// Intact frames of an unknown protocol version.
-    pub unknown_version: u32,
-    /// Times the sequence number jumped forward (one or more frames lost in between).
-    pub seq_gaps: u32,
-    /// Frames lost according to the sequence numbers (sum of the forward jumps).
-    pub lost_frames: u32,
-    /// Times the sequence number went backwards or repeated (peer restart, duplicate, or a
-    /// jump of 32768 or more); not counted as lost frames.
-    pub seq_resets: u32,
-    /// Bytes received, delimiters included.
-    pub bytes: u32,
-}
-
-impl LinkStats {
-    /// Number of 32-bit counters in [`LinkStats::to_array`].
-    pub const FIELDS: usize = 10;
-
-    /// Total of all rejected chunks.
-    pub fn rejected(&self) -> u32 {
-        self.cobs_errors
-            .wrapping_add(self.crc_errors)
-            .wrapping_add(self.too_short)
-            .wrapping_add(self.oversized)
-            .wrapping_add(self.unknown_version)
-    }
-
-    /// Counters in wire order (see `docs/protocol.md`).
-    pub fn to_array(&self) -> [u32; Self::FIELDS] {
-        [
-            self.frames_ok,
-            self.cobs_errors,
-            self.crc_errors,
-            self.too_short,
-            self.oversized,
-            self.unknown_version,
-            self.seq_gaps,
-            self.lost_frames,
-            self.seq_resets,
-            self.bytes,
-        ]
-    }
-
-    /// Inverse of [`LinkStats::to_array`].
-    pub fn from_array(a: [u32; Self::FIELDS]) -> Self {
-        let [frames_ok, cobs_errors, crc_errors, too_short, oversized, unknown_version, seq_gaps, lost_frames, seq_resets, bytes] =
-            a;
-        Self {
-            frames_ok,
-            cobs_errors,
-            crc_errors,
-            too_short,
-            oversized,
-            unknown_version,
-            seq_gaps,
-            lost_frames,
-            seq_resets,
-            bytes,
-        }
-    }
-
-    fn count_error(&mut self, e: FrameError) {
-        let c = match e {
-            FrameError::Cobs => &mut self.cobs_errors,
-            FrameError::Crc => &mut self.crc_errors,
-            FrameError::TooShort { .. } => &mut self.too_short,
-            FrameError::Oversized => &mut self.oversized,
-            FrameError::UnknownVersion { .. } => &mut self.unknown_version,
-        };
-        *c = c.wrapping_add(1);
-    }
-}
-
-/// Sequence-number bookkeeping of one receiving direction.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct SeqTracker {
-    expected: Option<u16>,
-}
-
-impl SeqTracker {
-    /// A tracker that takes the first sequence number it sees as the start.
-    pub const fn new() -> Self {
-        Self { expected: None }
-    }
-
-    /// Records `seq`; updates `seq_gaps`, `lost_frames` and `seq_resets` in `stats`.
-    pub fn observe(&mut self, seq: u16, stats: &mut LinkStats) {
-        if let Some(expected) = self.expected {
-            let jump = seq.wrapping_sub(expected);
-            // Forward jumps of less than half the sequence space are losses; anything else is a
-            // duplicate, reordering or peer restart, which must not inflate the loss count.
-            if jump != 0 && jump < 0x8000 {
-                stats.seq_gaps = stats.seq_gaps.wrapping_add(1);
-                stats.lost_frames = stats.lost_frames.wrapping_add(u32::from(jump));
-            } else if jump != 0 {
-                stats.seq_resets = stats.seq_resets.wrapping_add(1);
-            }
-        }
-        self.expected = Some(seq.wrapping_add(1));
-    }
-}
-
-/// COBS-decodes `buf` (up to its first `0x00`, if any) in place; returns the decoded length,
-/// `None` for an empty or invalid chunk (a block that runs past the end).
-///
-/// The same result as `cobs::decode_in_place` (the `cobs` crate still encodes), written here
-/// with checked accesses only: the crate's decoder indexes the buffer, which leaves a bounds
-/// check, i.e. a panic path, in every firmware's receive loop (found by the firmware's ELF
-/// inspection, `scripts/no_panic.py`).
-fn cobs_decode_in_place(buf: &mut [u8]) -> Option<usize> {
-    if buf.is_empty() {
-        return None;
-    }
-    let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
-    let (mut src, mut dst) = (0usize, 0usize);
-    while src < end {
-        let code = usize::from(*buf.get(src)?);
-        if src + code > end && code != 1 {
-            return None;
-        }
-        src += 1;
-        for _ in 1..code {
-            let b = *buf.get(src)?;
-            *buf.get_mut(dst)? = b;
-            src += 1;
-            dst += 1;
-        }
-        if code != 0xFF && src < end {
-            *buf.get_mut(dst)? = 0;
-            dst += 1;
-        }
-    }
-    Some(dst)
 }
 
 /// Writes the raw frame (header, payload, CRC) through COBS into `out`, then one delimiter.
@@ -561,46 +405,6 @@ impl<const N: usize> FrameDecoder<N> {
 mod tests {
     use super::super::{wire_len, MAX_WIRE_LEN};
     use super::*;
-
-    #[test]
-    fn own_cobs_decoder_agrees_with_the_cobs_crate() {
-        extern crate std;
-        // Every chunk of up to 3 bytes, and pseudo-random longer ones.
-        let mut chunks: std::vec::Vec<std::vec::Vec<u8>> = std::vec::Vec::new();
-        for a in 0..=255u8 {
-            chunks.push(std::vec![a]);
-            for b in [0u8, 1, 2, 3, 254, 255] {
-                chunks.push(std::vec![a, b]);
-                for c in [0u8, 1, 2, 255] {
-                    chunks.push(std::vec![a, b, c]);
-                }
-            }
-        }
-        let mut x = 0x1234_5678u32;
-        for len in 1..300 {
-            let mut v = std::vec::Vec::new();
-            for _ in 0..len {
-                x ^= x << 13;
-                x ^= x >> 17;
-                x ^= x << 5;
-                v.push(if x.is_multiple_of(7) {
-                    (x >> 8) as u8 % 4
-                } else {
-                    (x >> 8) as u8
-                });
-            }
-            chunks.push(v);
-        }
-        for c in chunks {
-            let (mut a, mut b) = (c.clone(), c.clone());
-            let theirs = cobs::decode_in_place(&mut a).ok();
-            let ours = super::cobs_decode_in_place(&mut b);
-            assert_eq!(ours, theirs, "{c:?}");
-            if let Some(n) = ours {
-                assert_eq!(a[..n], b[..n], "{c:?}");
-            }
-        }
-    }
 
     fn wire(msg_type: u8, seq: u16, payload: &[u8]) -> heapless::Vec<u8, MAX_WIRE_LEN> {
         let mut v = heapless::Vec::new();

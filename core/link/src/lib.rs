@@ -49,7 +49,10 @@
 //!   [`Frame`]s, classifies and counts every rejected frame ([`LinkStats`]), resynchronises at
 //!   the next `0x00` and counts sequence gaps (lost frames) of the direction it receives.
 //! * [`Writer`] / [`Reader`] put and get little-endian scalars in payloads.
-//! * [`msg`] lists the message types and the payload layouts of the link-level messages.
+//! * [`Field`] is a fixed-size value in a payload (scalars, arrays).
+//! * [`msg`] is the message catalogue above the framing: type codes and payload layouts
+//!   ([`msg::Payload`]). The framing modules (`frame`, `stats`, `cobs_decode`, `payload`)
+//!   import nothing from it: the arrow points from the catalogue to the framing only.
 //!
 //! # Why CRC-32/ISO-HDLC
 //!
@@ -78,15 +81,18 @@
     )
 )]
 
+mod cobs_decode;
 mod frame;
 pub mod msg;
 mod payload;
+mod stats;
 
 pub use frame::{
     encode_frame, encode_frame_vec, EncodeError, Feed, Frame, FrameDecoder, FrameEncoder,
-    FrameError, LinkStats, SeqTracker,
+    FrameError,
 };
-pub use payload::{PayloadError, Reader, Writer};
+pub use payload::{Field, PayloadError, Reader, Writer};
+pub use stats::{LinkStats, SeqTracker};
 
 /// Protocol version carried in byte 0 of every raw frame. Frames with another version and a
 /// valid CRC are rejected and counted as [`FrameError::UnknownVersion`].

@@ -258,6 +258,59 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// A value with a fixed-size little-endian layout inside a payload: the building block of the
+/// message layouts (a message's field list is a sequence of `Field`s).
+pub trait Field: Sized {
+    /// Encoded size, in bytes.
+    const LEN: usize;
+    /// Appends the value.
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError>;
+    /// Reads a value; [`PayloadError::InvalidValue`] if the bytes are not one this type allows.
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError>;
+}
+
+/// `Field` for scalars through the matching `Writer::put_*` / `Reader::get_*` pair.
+macro_rules! scalar_field {
+    ($($t:ty: $put:ident, $get:ident;)+) => {$(
+        impl Field for $t {
+            const LEN: usize = core::mem::size_of::<$t>();
+            fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+                w.$put(*self)
+            }
+            fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+                r.$get()
+            }
+        }
+    )+};
+}
+
+scalar_field! {
+    u8: put_u8, get_u8;
+    i8: put_i8, get_i8;
+    u16: put_u16, get_u16;
+    i16: put_i16, get_i16;
+    u32: put_u32, get_u32;
+    i32: put_i32, get_i32;
+    u64: put_u64, get_u64;
+    f32: put_f32, get_f32;
+    f64: put_f64, get_f64;
+}
+
+/// Arrays travel element by element, in index order.
+impl<T: Field + Copy + Default, const N: usize> Field for [T; N] {
+    const LEN: usize = N * T::LEN;
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+        self.iter().try_for_each(|v| v.put(w))
+    }
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+        let mut a = [T::default(); N];
+        for v in &mut a {
+            *v = T::get(r)?;
+        }
+        Ok(a)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -310,5 +363,22 @@ mod tests {
         assert!(w.put_u32(9).is_err());
         assert_eq!(w.len(), 2);
         assert_eq!(w.into_written(), &[7, 0]);
+    }
+
+    #[test]
+    fn fields_travel_in_order_little_endian() {
+        assert_eq!(<[u16; 3]>::LEN, 6);
+        assert_eq!(<[[f32; 2]; 2]>::LEN, 16);
+        let mut buf = [0u8; 8];
+        let mut w = Writer::new(&mut buf);
+        [0x0102u16, 0x0304, 0x0506].put(&mut w).unwrap();
+        0xABu8.put(&mut w).unwrap();
+        assert_eq!(w.written(), &[2, 1, 4, 3, 6, 5, 0xAB]);
+        // One byte left: a u16 array does not fit.
+        assert!([1u16, 2].put(&mut w).is_err());
+        let mut r = Reader::new(&buf[..7]);
+        assert_eq!(<[u16; 3]>::get(&mut r), Ok([0x0102, 0x0304, 0x0506]));
+        assert_eq!(u8::get(&mut r), Ok(0xAB));
+        assert!(u8::get(&mut r).is_err());
     }
 }

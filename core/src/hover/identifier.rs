@@ -4,6 +4,7 @@ use crate::error::Error;
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, StateModel};
 use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
+use crate::rls::RlsView;
 use crate::scalar::Real;
 
 /// What one [`HoverIdentifier::step`] reports.
@@ -18,33 +19,85 @@ pub struct StepOutput<T> {
     pub innovation: Option<HoverState<T>>,
 }
 
+/// The four models of a [`HoverIdentifier`], in export order.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ModelId {
+    /// The translational model (Eq. 27): `[v_x v_y v_z]`.
+    Velocity,
+    /// The q̂ model (Eq. 28).
+    Pitch,
+    /// The r̂ model (Eq. 29).
+    Yaw,
+    /// The p̂ model (Eq. 30).
+    Roll,
+}
+
+impl ModelId {
+    /// The four, in export order.
+    pub const ALL: [ModelId; 4] = [Self::Velocity, Self::Pitch, Self::Yaw, Self::Roll];
+
+    /// Position in export order (0 velocity, 1 q̂, 2 r̂, 3 p̂), the model number of the
+    /// telemetry messages.
+    pub const fn index(self) -> u8 {
+        match self {
+            Self::Velocity => 0,
+            Self::Pitch => 1,
+            Self::Yaw => 2,
+            Self::Roll => 3,
+        }
+    }
+}
+
+/// The four model types of a [`HoverIdentifier`], by name: for code that must name one
+/// model's state type, such as a firmware that stages an import one model at a time
+/// (`<<I as HoverModels>::Velocity as StateModel<f32>>::State`) instead of restating its sizes.
+pub trait HoverModels {
+    /// The translational model.
+    type Velocity;
+    /// The q̂ model.
+    type Pitch;
+    /// The r̂ model.
+    type Yaw;
+    /// The p̂ model.
+    type Roll;
+}
+
+impl<T, Vm, Qm, Rm, Pm> HoverModels for HoverIdentifier<T, Vm, Qm, Rm, Pm> {
+    type Velocity = Vm;
+    type Pitch = Qm;
+    type Yaw = Rm;
+    type Roll = Pm;
+}
+
 /// Everything a [`HoverIdentifier`] has learnt (warm start across flights).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct HoverSnapshot<V, Q, R, P> {
+pub struct HoverSnapshot<Vs, Qs, Rs, Ps> {
     /// Translational model.
-    pub velocity: V,
+    pub velocity: Vs,
     /// q̂ model.
-    pub pitch: Q,
+    pub pitch: Qs,
     /// r̂ model.
-    pub yaw: R,
+    pub yaw: Rs,
     /// p̂ model.
-    pub roll: P,
+    pub roll: Ps,
 }
 
 /// Online identifier of the hover dynamics (paper Section 5): takes one sample per step,
 /// learns all four models from the previous sample to this one, and predicts the next.
 ///
-/// `V` is the translational model, `Q`, `R`, `P` the q̂, r̂, p̂ models. The paper's two
+/// `Vm` is the translational model, `Qm`, `Rm`, `Pm` the q̂, r̂, p̂ models (`m` for model: `R`
+/// and `P` elsewhere count rules and packed entries). The paper's two
 /// configurations are the aliases [`PaperFuzzyIdentifier`](super::PaperFuzzyIdentifier) and [`PaperPlainIdentifier`](super::PaperPlainIdentifier); since
 /// they share this API, Table 4's comparison is a change of type.
 ///
 /// Every call that returns `Err` leaves the identifier exactly as it was.
 #[derive(Clone, Debug, PartialEq)]
-pub struct HoverIdentifier<T, V, Q, R, P> {
-    pub(super) velocity: V,
-    pub(super) pitch: Q,
-    pub(super) yaw: R,
-    pub(super) roll: P,
+pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
+    pub(super) velocity: Vm,
+    pub(super) pitch: Qm,
+    pub(super) yaw: Rm,
+    pub(super) roll: Pm,
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
     pub(super) timing: Timing,
@@ -96,22 +149,22 @@ impl Timing {
     }
 }
 
-impl<T, V, Q, R, P> HoverIdentifier<T, V, Q, R, P>
+impl<T, Vm, Qm, Rm, Pm> HoverIdentifier<T, Vm, Qm, Rm, Pm>
 where
     T: Real,
-    V: StateModel<T>,
-    Q: StateModel<T>,
-    R: StateModel<T>,
-    P: StateModel<T>,
+    Vm: StateModel<T>,
+    Qm: StateModel<T>,
+    Rm: StateModel<T>,
+    Pm: StateModel<T>,
 {
     /// An identifier from four models (translational, q̂, r̂, p̂). `config` gives the sample
     /// period and its tolerance; the models keep the RLS settings and scales they were built
     /// with.
     pub fn new(
-        velocity: V,
-        pitch: Q,
-        yaw: R,
-        roll: P,
+        velocity: Vm,
+        pitch: Qm,
+        yaw: Rm,
+        roll: Pm,
         config: HoverConfig<T>,
     ) -> Result<Self, Error> {
         config.validate()?;
@@ -139,23 +192,43 @@ where
     }
 
     /// The translational model.
-    pub fn velocity_model(&self) -> &V {
+    pub fn velocity_model(&self) -> &Vm {
         &self.velocity
     }
 
     /// The q̂ model.
-    pub fn pitch_model(&self) -> &Q {
+    pub fn pitch_model(&self) -> &Qm {
         &self.pitch
     }
 
     /// The r̂ model.
-    pub fn yaw_model(&self) -> &R {
+    pub fn yaw_model(&self) -> &Rm {
         &self.yaw
     }
 
     /// The p̂ model.
-    pub fn roll_model(&self) -> &P {
+    pub fn roll_model(&self) -> &Pm {
         &self.roll
+    }
+
+    /// Calls `f` with every RLS estimator of the four models, in export order: the model, the
+    /// estimator's index within it (0 when learnt globally; the rule when learnt locally) and
+    /// a size-erased view ([`RlsView`]). One routine that sends, stores or
+    /// prints estimators then serves every identifier.
+    pub fn for_each_rls(&self, mut f: impl FnMut(ModelId, usize, RlsView<'_, T>)) {
+        for model in ModelId::ALL {
+            let mut index = 0;
+            let mut visit = |v: RlsView<'_, T>| {
+                f(model, index, v);
+                index += 1;
+            };
+            match model {
+                ModelId::Velocity => self.velocity.for_each_rls(&mut visit),
+                ModelId::Pitch => self.pitch.for_each_rls(&mut visit),
+                ModelId::Yaw => self.yaw.for_each_rls(&mut visit),
+                ModelId::Roll => self.roll.for_each_rls(&mut visit),
+            }
+        }
     }
 
     /// The sample the next step will learn from, if any.
@@ -292,7 +365,7 @@ where
     }
 
     /// Everything learnt, for a warm start on the next flight.
-    pub fn export(&self) -> HoverSnapshot<V::State, Q::State, R::State, P::State> {
+    pub fn export(&self) -> HoverSnapshot<Vm::State, Qm::State, Rm::State, Pm::State> {
         HoverSnapshot {
             velocity: self.velocity.export(),
             pitch: self.pitch.export(),
@@ -305,7 +378,7 @@ where
     /// anchors). All four states are checked before any is written; on `Err` nothing changed.
     pub fn import(
         &mut self,
-        snapshot: &HoverSnapshot<V::State, Q::State, R::State, P::State>,
+        snapshot: &HoverSnapshot<Vm::State, Qm::State, Rm::State, Pm::State>,
     ) -> Result<(), Error> {
         self.velocity.check_import(&snapshot.velocity)?;
         self.pitch.check_import(&snapshot.pitch)?;
@@ -335,22 +408,22 @@ where
     /// Mutable access to the translational model, for importing one model at a time (a
     /// firmware can stage one model's state instead of a whole snapshot). Importing a model
     /// does not restart the sample chain.
-    pub fn velocity_model_mut(&mut self) -> &mut V {
+    pub fn velocity_model_mut(&mut self) -> &mut Vm {
         &mut self.velocity
     }
 
     /// Mutable access to the q̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn pitch_model_mut(&mut self) -> &mut Q {
+    pub fn pitch_model_mut(&mut self) -> &mut Qm {
         &mut self.pitch
     }
 
     /// Mutable access to the r̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn yaw_model_mut(&mut self) -> &mut R {
+    pub fn yaw_model_mut(&mut self) -> &mut Rm {
         &mut self.yaw
     }
 
     /// Mutable access to the p̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
-    pub fn roll_model_mut(&mut self) -> &mut P {
+    pub fn roll_model_mut(&mut self) -> &mut Pm {
         &mut self.roll
     }
 

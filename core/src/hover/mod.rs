@@ -23,12 +23,12 @@ pub mod table3;
 mod variants;
 
 pub use config::{HoverConfig, RegressorScaling};
-pub use identifier::{HoverIdentifier, HoverSnapshot, StepOutput};
+pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
 pub use models::{
     right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
     VelocityModel, VelocityStructure,
 };
-pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
+pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,

@@ -1,5 +1,7 @@
 //! One measurement sample and the state vector the identifier predicts.
 
+use core::fmt;
+
 use crate::error::{Error, Quantity};
 use crate::scalar::Real;
 
@@ -56,6 +58,53 @@ impl<T: Real> HoverState<T> {
     }
 }
 
+/// A field of a [`HoverSample`], as an error names it ([`Quantity::Sample`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum SampleField {
+    /// Roll angle φ (rad).
+    Roll,
+    /// Pitch angle θ (rad).
+    Pitch,
+    /// Yaw angle ψ (rad).
+    Yaw,
+    /// Inertial velocity component `v^s[index]` (m/s, paper axes: x east, y up, z south).
+    Velocity(u8),
+    /// Body rate `ω^b[index]` of `[q r p]` (deg/s).
+    Rate(u8),
+    /// Control `u[index]` of `[u_col u_ped u_lon u_lat]` (normalised, −1…1).
+    Control(u8),
+    /// Sample time stamp (µs).
+    Time,
+}
+
+impl fmt::Display for SampleField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        const RATES: [&str; 3] = ["q", "r", "p"];
+        const CONTROLS: [&str; 4] = ["u_col", "u_ped", "u_lon", "u_lat"];
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        match *self {
+            SampleField::Roll => f.write_str("roll φ (rad)"),
+            SampleField::Pitch => f.write_str("pitch θ (rad)"),
+            SampleField::Yaw => f.write_str("yaw ψ (rad)"),
+            SampleField::Velocity(i) => match AXES.get(usize::from(i)) {
+                Some(a) => write!(f, "velocity v_{a} (m/s)"),
+                None => write!(f, "velocity[{i}] (m/s)"),
+            },
+            SampleField::Rate(i) => match RATES.get(usize::from(i)) {
+                Some(a) => write!(f, "body rate {a} (deg/s)"),
+                None => write!(f, "body rate[{i}] (deg/s)"),
+            },
+            SampleField::Control(i) => match CONTROLS.get(usize::from(i)) {
+                Some(a) => write!(f, "control {a}"),
+                None => write!(f, "control[{i}]"),
+            },
+            SampleField::Time => f.write_str("time stamp (µs)"),
+        }
+    }
+}
+
 /// One sample at time step k (paper axes and units, see [`crate::hover`]).
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -108,7 +157,7 @@ impl SampleLimits {
     /// Checks body rates `[q r p]` (deg/s) against [`RATE`](Self::RATE).
     pub fn check_rates<T: Real>(rates: &[T; 3]) -> Result<(), Error> {
         for (i, &w) in rates.iter().enumerate() {
-            check(w, Self::RATE, Quantity::Rate(i as u8))?;
+            check(w, Self::RATE, SampleField::Rate(i as u8).into())?;
         }
         Ok(())
     }
@@ -116,15 +165,15 @@ impl SampleLimits {
     /// Checks every field of a sample: `NonFinite` for NaN/±∞, `OutOfRange` beyond the limits.
     pub fn check<T: Real>(s: &HoverSample<T>) -> Result<(), Error> {
         let a = &s.attitude;
-        check(a.roll, Self::ROLL, Quantity::Roll)?;
-        check(a.pitch, Self::PITCH, Quantity::Pitch)?;
-        check(a.yaw, Self::YAW, Quantity::Yaw)?;
+        check(a.roll, Self::ROLL, SampleField::Roll.into())?;
+        check(a.pitch, Self::PITCH, SampleField::Pitch.into())?;
+        check(a.yaw, Self::YAW, SampleField::Yaw.into())?;
         for (i, &v) in s.velocity.iter().enumerate() {
-            check(v, Self::VELOCITY, Quantity::Velocity(i as u8))?;
+            check(v, Self::VELOCITY, SampleField::Velocity(i as u8).into())?;
         }
         Self::check_rates(&s.rates)?;
         for (i, u) in s.controls.to_array().into_iter().enumerate() {
-            check(u, Self::CONTROL, Quantity::Control(i as u8))?;
+            check(u, Self::CONTROL, SampleField::Control(i as u8).into())?;
         }
         Ok(())
     }

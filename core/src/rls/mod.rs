@@ -54,9 +54,11 @@ use crate::error::{ConfigError, Error, Quantity};
 use crate::scalar::{within, Real};
 
 mod update;
+mod view;
 
 use update::RlsSlices;
 pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
+pub use view::RlsView;
 
 /// Largest accepted magnitude of a regressor entry `ξ_j`.
 ///
@@ -80,6 +82,26 @@ pub enum Algorithm {
     Covariance,
     /// Bierman's U-D factorisation (packed unit upper U with D on the diagonal).
     UdFactor,
+}
+
+impl Algorithm {
+    /// The form's code in every rotorid byte format (telemetry, exports, the C interface):
+    /// 0 covariance, 1 U-D.
+    pub const fn code(self) -> u8 {
+        match self {
+            Self::Covariance => 0,
+            Self::UdFactor => 1,
+        }
+    }
+
+    /// The form of a [`code`](Self::code); `None` for any other byte.
+    pub const fn from_code(code: u8) -> Option<Self> {
+        match code {
+            0 => Some(Self::Covariance),
+            1 => Some(Self::UdFactor),
+            _ => None,
+        }
+    }
 }
 
 /// Settings of one RLS estimator.
@@ -160,6 +182,13 @@ pub struct RlsState<T, const N: usize, const NP: usize> {
     pub factor: [T; NP],
     /// Number of updates made.
     pub updates: u32,
+}
+
+impl<T, const N: usize, const NP: usize> RlsState<T, N, NP> {
+    /// Parameters N of this state's estimator.
+    pub const PARAMETERS: usize = N;
+    /// Packed covariance (or U-D factor) entries, N(N+1)/2.
+    pub const FACTOR_LEN: usize = NP;
 }
 
 /// Counters of an [`Rls`]. (The last prior innovation is what
@@ -300,36 +329,26 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// For the U-D form `P_ii = D_i + Σ_{j>i} U_ij² D_j` (O(N²); meant for diagnostics).
     pub fn covariance_diagonal(&self) -> [T; N] {
         let mut diag = [T::zero(); N];
-        match self.config.algorithm {
-            Algorithm::Covariance => {
-                for (j, d) in diag.iter_mut().enumerate() {
-                    *d = self.factor.get(col(j) + j).copied().unwrap_or_else(T::zero);
-                }
-            }
-            Algorithm::UdFactor => {
-                for j in 0..N {
-                    let Some((&dj, above)) = column(&self.factor, j) else {
-                        continue;
-                    };
-                    for (d, &u) in diag.iter_mut().zip(above) {
-                        *d += u * u * dj;
-                    }
-                    if let Some(d) = diag.get_mut(j) {
-                        *d += dj;
-                    }
-                }
-            }
+        for (d, v) in diag.iter_mut().zip(self.view().covariance_diagonal()) {
+            *d = v;
         }
         diag
     }
 
     /// trace(P) (O(N) for the covariance form, O(N²) for U-D).
     pub fn trace(&self) -> T {
-        let mut t = T::zero();
-        for d in self.covariance_diagonal() {
-            t += d;
+        self.view().trace()
+    }
+
+    /// A size-erased read view ([`RlsView`]): θ, the packed factor, counters and settings,
+    /// for code that serves estimators of every size with one copy.
+    pub fn view(&self) -> RlsView<'_, T> {
+        RlsView {
+            config: &self.config,
+            theta: &self.theta,
+            factor: &self.factor,
+            counters: &self.counters,
         }
-        t
     }
 
     /// Entry `P_ij` of the covariance (`None` outside N×N). O(1) for the covariance form,

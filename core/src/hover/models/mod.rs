@@ -48,6 +48,9 @@ pub trait StateModel<T: Real> {
     fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error>;
     /// The estimator settings.
     fn rls_config(&self) -> &RlsConfig<T>;
+    /// Calls `f` with a view of each of the model's RLS estimators, in export order (see
+    /// [`TsEstimator::for_each_rls`](crate::learning::TsEstimator::for_each_rls)).
+    fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>));
 
     /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
     /// keeps it from the previous step) and the body rates `[q r p]` of the sample before

@@ -338,4 +338,8 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     fn rls_config(&self) -> &RlsConfig<T> {
         self.ts.config()
     }
+
+    fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>)) {
+        self.ts.for_each_rls(f)
+    }
 }

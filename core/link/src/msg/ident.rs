@@ -1,0 +1,314 @@
+//! Identification messages: samples in, estimates out, and the requests about the onboard
+//! identifiers (reset, parameter dump, export).
+
+use crate::{Field, PayloadError, Reader, Writer};
+use rotorid::error::Error;
+use rotorid::hover::{Attitude, Controls, HoverSample};
+
+wire_enum! {
+    /// What the firmware does with a [`SampleMsg`] (its byte 0).
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum SampleMode {
+        /// `step`: learn from the previous sample to this one, then predict the next.
+        Learn = 0,
+        /// `predict`: one-step prediction with frozen parameters; nothing changes.
+        Predict = 1,
+        /// `resume`: start a new sample chain here without learning, then predict.
+        Resume = 2,
+    }
+}
+
+/// A sample travels as `time_us` u64, then 13 × f32: roll, pitch, yaw (rad), `v^s` x, y, z
+/// (m/s), rates q, r, p (deg/s), controls col, ped, lon, lat.
+impl Field for HoverSample<f32> {
+    const LEN: usize = 8 + 13 * 4;
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+        let a = &self.attitude;
+        w.put_u64(self.time_us)?;
+        [a.roll, a.pitch, a.yaw].put(w)?;
+        self.velocity.put(w)?;
+        self.rates.put(w)?;
+        self.controls.to_array().put(w)
+    }
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+        let time_us = r.get_u64()?;
+        let [roll, pitch, yaw] = Field::get(r)?;
+        let velocity = Field::get(r)?;
+        let rates = Field::get(r)?;
+        let [col, ped, lon, lat] = Field::get(r)?;
+        Ok(Self {
+            time_us,
+            attitude: Attitude { roll, pitch, yaw },
+            velocity,
+            rates,
+            controls: Controls { col, ped, lon, lat },
+        })
+    }
+}
+
+fixed_payload! {
+    /// `Sample` payload (61 B): mode u8, then the sample: `time_us` u64 and 13 × f32 (roll,
+    /// pitch, yaw (rad), `v^s` x, y, z (m/s), rates q, r, p (deg/s), controls col, ped, lon,
+    /// lat).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct SampleMsg for [Sample] {
+        /// What to do with the sample.
+        pub mode: SampleMode,
+        /// The sample, in the core's axes and units.
+        pub sample: HoverSample<f32>,
+    }
+}
+
+/// What one identifier made of a sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct IdOutput {
+    /// `[v_x v_y v_z q r p]` predicted for the next sample (zeros when `error` is set).
+    pub prediction: [f32; 6],
+    /// Prior innovations of the update (Learn mode after the first sample of a chain).
+    pub innovation: Option<[f32; 6]>,
+    /// Why the core rejected the sample (its state is then unchanged).
+    pub error: Option<Error>,
+    /// Stopwatch ticks of the call (SysTick at the core clock in the example firmware).
+    pub ticks: u32,
+}
+
+impl IdOutput {
+    /// A rejected sample.
+    pub fn rejected(error: Error, ticks: u32) -> Self {
+        Self {
+            prediction: [0.0; 6],
+            innovation: None,
+            error: Some(error),
+            ticks,
+        }
+    }
+}
+
+/// An output travels as: error (28 B), flags u8 (bit 0: innovation present), prediction
+/// 6 × f32, innovation 6 × f32 (zeros when absent), ticks u32.
+impl Field for IdOutput {
+    const LEN: usize = super::ERROR_LEN + 1 + 2 * 6 * 4 + 4;
+    fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
+        self.error.put(w)?;
+        w.put_u8(u8::from(self.innovation.is_some()))?;
+        self.prediction.put(w)?;
+        self.innovation.unwrap_or([0.0; 6]).put(w)?;
+        w.put_u32(self.ticks)
+    }
+    fn get(r: &mut Reader<'_>) -> Result<Self, PayloadError> {
+        let error = Field::get(r)?;
+        let flags = r.get_u8()?;
+        if flags > 1 {
+            return Err(PayloadError::InvalidValue);
+        }
+        let prediction = Field::get(r)?;
+        let inn: [f32; 6] = Field::get(r)?;
+        // Without an innovation its six floats are written as zeros: accept only that.
+        if flags == 0 && inn.iter().any(|v| v.to_bits() != 0) {
+            return Err(PayloadError::InvalidValue);
+        }
+        Ok(Self {
+            prediction,
+            innovation: (flags == 1).then_some(inn),
+            error,
+            ticks: r.get_u32()?,
+        })
+    }
+}
+
+fixed_payload! {
+    /// `Estimate` payload (171 B): the sample's `time_us` u64 and mode u8, then the fuzzy and
+    /// the plain identifier's [`IdOutput`] (81 B each).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct Estimate for [Estimate] {
+        /// Time stamp of the sample this answers.
+        pub time_us: u64,
+        /// The sample's mode.
+        pub mode: SampleMode,
+        /// The Takagi-Sugeno identifier.
+        pub fuzzy: IdOutput,
+        /// The plain (single-rule) identifier.
+        pub plain: IdOutput,
+    }
+}
+
+wire_enum! {
+    /// Which onboard identifier a request is about.
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum Ident {
+        /// The Takagi-Sugeno identifier (`PaperFuzzyIdentifier<f32>`).
+        Fuzzy = 0,
+        /// The single-rule baseline (`PaperPlainIdentifier<f32>`).
+        Plain = 1,
+    }
+}
+
+wire_enum! {
+    /// RLS form chosen by a `Reset` (its only byte).
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum RlsForm {
+        /// `HoverConfig::default()`: Bierman U-D, α = 10⁶, λ = 1.
+        UdDefault = 0,
+        /// `HoverConfig::paper()`: the paper's covariance form, α = 10⁶, λ = 1.
+        PaperCovariance = 1,
+    }
+}
+
+fixed_payload! {
+    /// `Reset` payload (1 B): the [`RlsForm`] of both identifiers from now on. Answered by
+    /// `Ack` once both identifiers are back at θ = 0, P = αI, without a previous sample.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct ResetMsg for [Reset] {
+        /// RLS form.
+        pub form: RlsForm,
+    }
+}
+
+fixed_payload! {
+    /// `ParamsRequest` and `ExportRequest` payload (1 B): the [`Ident`].
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct IdentRequest for [ParamsRequest, ExportRequest] {
+        /// Which identifier.
+        pub ident: Ident,
+    }
+}
+
+/// `ParamsRequest` payload.
+pub type ParamsRequest = IdentRequest;
+/// `ExportRequest` payload.
+pub type ExportRequest = IdentRequest;
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{rejects_truncated_and_extended, roundtrip};
+    use super::super::Payload;
+    use super::*;
+    use rotorid::error::Quantity;
+
+    fn sample() -> HoverSample<f32> {
+        HoverSample {
+            time_us: 0x0123_4567_89AB_CDEF,
+            attitude: Attitude {
+                roll: -0.0,
+                pitch: f32::from_bits(0x7FC0_1234),
+                yaw: 3.0,
+            },
+            velocity: [1.0, -2.5, f32::MIN_POSITIVE],
+            rates: [f32::INFINITY, 7.0, -8.0],
+            controls: Controls {
+                col: 0.5,
+                ped: -0.1,
+                lon: 0.2,
+                lat: 0.3,
+            },
+        }
+    }
+
+    /// The 13 floats of a sample, in wire order, as bits.
+    fn bits(s: &HoverSample<f32>) -> [u32; 13] {
+        let mut out = [0u32; 13];
+        let all = [s.attitude.roll, s.attitude.pitch, s.attitude.yaw]
+            .into_iter()
+            .chain(s.velocity)
+            .chain(s.rates)
+            .chain(s.controls.to_array());
+        for (o, v) in out.iter_mut().zip(all) {
+            *o = v.to_bits();
+        }
+        out
+    }
+
+    #[test]
+    fn sample_roundtrips_bit_exact_and_rejects_bad_payloads() {
+        for &mode in SampleMode::ALL {
+            let m = SampleMsg {
+                mode,
+                sample: sample(),
+            };
+            let b = roundtrip(&m);
+            assert_eq!(b.len(), 61);
+            // Wire order: mode, time, then the floats in `bits` order.
+            assert_eq!(b[0], mode as u8);
+            assert_eq!(b[1..9], 0x0123_4567_89AB_CDEFu64.to_le_bytes());
+            let floats: [u32; 13] = core::array::from_fn(|i| {
+                u32::from_le_bytes(b[9 + 4 * i..][..4].try_into().unwrap())
+            });
+            assert_eq!(floats, bits(&m.sample));
+            let back = SampleMsg::read(&b).unwrap();
+            assert_eq!(back.mode, mode);
+            assert_eq!(back.sample.time_us, m.sample.time_us);
+            assert_eq!(bits(&back.sample), bits(&m.sample));
+            rejects_truncated_and_extended::<SampleMsg>(&b);
+        }
+        let mut b = roundtrip(&SampleMsg {
+            mode: SampleMode::Learn,
+            sample: sample(),
+        });
+        b[0] = 3;
+        assert_eq!(SampleMsg::read(&b), Err(PayloadError::InvalidValue));
+    }
+
+    #[test]
+    fn estimate_roundtrips_and_rejects_bad_payloads() {
+        let e = Estimate {
+            time_us: 42,
+            mode: SampleMode::Learn,
+            fuzzy: IdOutput {
+                prediction: [1.0, -0.0, 3.0, f32::from_bits(1), 5.0, 6.0],
+                innovation: Some([0.5; 6]),
+                error: None,
+                ticks: 1234,
+            },
+            plain: IdOutput::rejected(
+                Error::NonFinite(Quantity::Sample(rotorid::hover::SampleField::Rate(0))),
+                7,
+            ),
+        };
+        let b = roundtrip(&e);
+        assert_eq!(b.len(), 171);
+        const { assert!(Estimate::LEN <= crate::MAX_PAYLOAD) };
+        assert_eq!(Estimate::read(&b), Ok(e));
+        rejects_truncated_and_extended::<Estimate>(&b);
+        let mut bad = b.clone();
+        bad[8] = 9; // mode
+        assert!(Estimate::read(&bad).is_err());
+        let mut bad = b.clone();
+        bad[9 + crate::msg::ERROR_LEN] = 2; // flags
+        assert!(Estimate::read(&bad).is_err());
+        // Plain has no innovation: a non-zero float there is refused.
+        let mut bad = b;
+        bad[9 + IdOutput::LEN + crate::msg::ERROR_LEN + 1 + 24] = 1;
+        assert!(Estimate::read(&bad).is_err());
+    }
+
+    #[test]
+    fn small_requests_roundtrip() {
+        for &form in RlsForm::ALL {
+            let m = ResetMsg { form };
+            let b = roundtrip(&m);
+            assert_eq!(b, [form as u8]);
+            assert_eq!(ResetMsg::read(&b), Ok(m));
+            rejects_truncated_and_extended::<ResetMsg>(&b);
+        }
+        assert!(ResetMsg::read(&[2]).is_err());
+        for &ident in Ident::ALL {
+            let m = IdentRequest { ident };
+            let b = roundtrip(&m);
+            assert_eq!(b, [ident as u8]);
+            assert_eq!(IdentRequest::read(&b), Ok(m));
+            rejects_truncated_and_extended::<IdentRequest>(&b);
+        }
+        assert!(IdentRequest::read(&[2]).is_err());
+    }
+}
