@@ -21,7 +21,7 @@ if command -v fc-list >/dev/null 2>&1 && [ -z "$(fc-list 2>/dev/null | head -1)"
 fi
 
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
-cargo build -q --release -p host-tests --bin rotorid
+cargo build -q --release -p rotorid-cli --bin rotorid
 bin="$CARGO_TARGET_DIR/release/rotorid"
 
 work=$(mktemp -d)

@@ -41,7 +41,6 @@ use std::time::{Duration, Instant};
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion};
 use flight_solver::rls::{CovarianceGuards, InverseQrRls, RlsParallel};
-use host_tests::dense_rls::{DenseRls, TsLikeStream};
 use host_tests::golden;
 use rotorid::hover::HoverSample;
 use rotorid::rls::{Rls, RlsConfig};
@@ -49,6 +48,7 @@ use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,
 };
+use rotorid_reference::dense_rls::{DenseRls, TsLikeStream};
 
 /// Samples in the stream, and updates between two resets of the estimator.
 pub const STREAM_LEN: usize = 1000;

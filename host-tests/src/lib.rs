@@ -1,20 +1,17 @@
-//! Host-side (std) companion of the `rotorid` core: plant simulator, experiments, log format,
-//! independent reference implementation and the firmware link driver.
-pub mod dense_rls;
-pub mod envelope;
-pub mod experiments;
+//! rotorid's test and benchmark suite: agreement with the independent reference, properties,
+//! golden bits, the firmware under QEMU (the link driver [`firmware_link`], the onboard
+//! identification driver [`onboard`], the MAVLink mapping [`mavlink`]), the onboard demo, the
+//! soak and the step cost and profile tools; its tests and benchmarks live beside it.
+//!
+//! It sits at the top and may depend on everything: `rotorid`, `rotorid-link`,
+//! `rotorid-mavlink`, `rotorid-sim`, `rotorid-cli` and (tests, benchmarks) `rotorid-reference`;
+//! nothing depends on it.
+
 pub mod firmware_link;
-pub mod flight_report;
 #[path = "../../core/tests/support/golden.rs"]
 pub mod golden;
-pub mod import;
-pub mod log;
 pub mod mavlink;
 pub mod onboard;
-pub mod plant;
-pub mod precision;
-pub mod reference;
-pub mod report;
 pub mod soak;
 
 /// The code blocks of the repository's README, compiled and run as doc tests so the README

@@ -20,7 +20,7 @@ use rotorid_link::msg::{
 use rotorid_link::Writer;
 
 use crate::firmware_link::{BootOptions, FirmwareLink, LinkError, OwnedFrame};
-use crate::plant::flight::{simulate, verification_excitation, FlightConfig};
+use rotorid_sim::plant::flight::{simulate, verification_excitation, FlightConfig};
 
 /// Frames in flight while streaming (the firmware answers in order).
 pub const WINDOW: usize = 8;
@@ -557,5 +557,5 @@ pub fn simulated_flight(seed: u64, duration_s: f64) -> Result<Vec<HoverSample<f3
     let cfg = FlightConfig::realistic(seed, duration_s);
     let mut exc = verification_excitation(seed, duration_s);
     let log = simulate(&cfg, &mut exc).map_err(|e| format!("{e}"))?;
-    Ok(crate::experiments::to_hover_samples(&log))
+    Ok(rotorid_sim::flights::to_hover_samples(&log))
 }

@@ -13,9 +13,9 @@ use rotorid::hover::{flight_sets, HoverSample};
 use rotorid::rls::RlsConfig;
 use rotorid::{FlightIdentifier, HoverConfig};
 
-use crate::envelope::{envelope_flight, EnvelopeKind};
-use crate::experiments::{identification_flight, to_hover_samples};
-use crate::plant::{simulate, Excitation, FlightConfig, PlantError};
+use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
+use rotorid_sim::flights::{identification_flight, to_hover_samples};
+use rotorid_sim::plant::{simulate, Excitation, FlightConfig, PlantError};
 
 /// Forgetting factor of the soak: a memory of about 2 000 samples (40 s).
 pub const FORGETTING: f64 = 0.9995;

@@ -350,7 +350,7 @@ fn full_flights_bit_for_bit_when_long() {
         eprintln!("skipped: set ROTORID_LONG=1 for the full identification + verification run");
         return;
     }
-    use host_tests::experiments::{identification_flight, to_hover_samples, verification_flight};
+    use rotorid_sim::flights::{identification_flight, to_hover_samples, verification_flight};
     let t0 = Instant::now();
     let id = to_hover_samples(&identification_flight(1).expect("flight"));
     let ver = to_hover_samples(&verification_flight(2, 120.0).expect("flight"));

@@ -9,9 +9,9 @@
 //! * core f32 (U-D without scaling, i.e. the same estimator): predictions within the documented bound
 //!   [`F32_PREDICTION_BOUND`] of the reference, relative to the state's scale.
 use host_tests::golden;
-use host_tests::reference::{self, ReferenceHover};
 use rotorid::hover::{HoverSample, StateModel};
 use rotorid::{HoverConfig, HoverIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier, Real};
+use rotorid_reference::{self as reference, ReferenceHover};
 
 const STEPS: usize = 3000;
 /// Relative agreement of the f64 core with the reference.

@@ -4,8 +4,8 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(samples) = host_tests::log::parse_log("fuzz.csv", data) {
-        let _ = host_tests::log::warnings("fuzz.csv", &samples);
-        let _ = host_tests::experiments::to_hover_samples(&samples);
+    if let Ok(samples) = rotorid_cli::log::parse_log("fuzz.csv", data) {
+        let _ = rotorid_cli::log::warnings("fuzz.csv", &samples);
+        let _ = rotorid_sim::flights::to_hover_samples(&samples);
     }
 });

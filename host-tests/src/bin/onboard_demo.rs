@@ -9,13 +9,12 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use host_tests::experiments::{
-    format_table4, identification_flight, to_hover_samples, verification_flight,
-};
 use host_tests::onboard::{Onboard, OnboardError};
 use indicatif::{ProgressBar, ProgressStyle};
 use rotorid::HoverState;
+use rotorid_cli::experiments::format_table4;
 use rotorid_link::msg::{Estimate, Ident, RlsForm, SampleMode, SampleMsg};
+use rotorid_sim::flights::{identification_flight, to_hover_samples, verification_flight};
 
 const ID_SEED: u64 = 1;
 const VER_SEED: u64 = 2;
@@ -139,8 +138,8 @@ fn run() -> Result<(), String> {
     let preds = |f: fn(&Estimate) -> &[f32; 6]| -> Vec<HoverState<f32>> {
         verified.estimates.iter().map(|e| state(f(e))).collect()
     };
-    let fuzzy = host_tests::experiments::one_step_errors(&ver, &preds(|e| &e.fuzzy.prediction));
-    let plain = host_tests::experiments::one_step_errors(&ver, &preds(|e| &e.plain.prediction));
+    let fuzzy = rotorid_cli::experiments::one_step_errors(&ver, &preds(|e| &e.fuzzy.prediction));
+    let plain = rotorid_cli::experiments::one_step_errors(&ver, &preds(|e| &e.plain.prediction));
     println!();
     println!(
         "Table 4 analogue, computed onboard (mean |one-step error| over the verification flight, θ frozen):"

@@ -15,10 +15,10 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::{Command, ExitCode, Stdio};
 
-use host_tests::experiments::{identification_flight, to_hover_samples};
 use host_tests::firmware_link::BootOptions;
 use host_tests::onboard::Onboard;
 use rotorid_link::msg::{RlsForm, SampleMode, SampleMsg};
+use rotorid_sim::flights::{identification_flight, to_hover_samples};
 
 /// Seed of the identification flight (the one `docs/cost.md` measures).
 const ID_SEED: u64 = 1;

@@ -7,18 +7,22 @@
 //! rotorid identify --train ident.csv --verify verify.csv --out results/
 //! rotorid convert flight.ulg -o flight.csv
 //! ```
+//!
+//! The binary of package `rotorid-cli`: argument parsing and printing only; the work is done by
+//! its library (`rotorid_cli`) on flights from `rotorid-sim` with the `rotorid` core.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use host_tests::envelope::{self, EnvelopeKind};
-use host_tests::experiments::{self, ModelParameters, TABLE4_VARIANTS};
-use host_tests::import;
-use host_tests::log;
-use host_tests::plant::{simulate, verification_excitation, FlightConfig};
-use host_tests::report::{self, Metrics, Table4};
 use indicatif::{ProgressBar, ProgressStyle};
+use rotorid_cli::experiments::{self, ModelParameters, TABLE4_VARIANTS};
+use rotorid_cli::import;
+use rotorid_cli::log;
+use rotorid_cli::report::{self, Metrics, Table4};
+use rotorid_sim::envelope::{self, EnvelopeKind};
+use rotorid_sim::flights;
+use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig};
 
 #[derive(Parser)]
 #[command(
@@ -181,7 +185,7 @@ fn run_simulate(
         }
     }
     if let (Kind::Identification, Some(d)) = (kind, duration) {
-        let full = experiments::identification_duration_s();
+        let full = flights::identification_duration_s();
         if d > full {
             return Err(format!(
                 "--duration {d} s: the identification flight (the four Table 2 sweeps) lasts {full} s; give at most that, or fly a verification flight for longer"
@@ -190,9 +194,9 @@ fn run_simulate(
     }
     let samples = match (kind, clean) {
         (Kind::Identification, false) => {
-            experiments::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
+            flights::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
         }
-        (Kind::Identification, true) => experiments::identification_flight_with(
+        (Kind::Identification, true) => flights::identification_flight_with(
             &clean_config(seed),
             duration.unwrap_or(f64::INFINITY),
         ),
@@ -229,7 +233,7 @@ fn run_simulate(
     eprintln!(
         "wrote {} samples ({:.1} s) to {}",
         samples.len(),
-        samples.len() as f64 / f64::from(experiments::SAMPLE_RATE_HZ),
+        samples.len() as f64 / f64::from(flights::SAMPLE_RATE_HZ),
         output.display()
     );
     Ok(())
@@ -250,7 +254,7 @@ fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f3
     report_import(path, &imported, &segments);
     Ok(segments
         .iter()
-        .map(|s| experiments::to_hover_samples(s))
+        .map(|s| flights::to_hover_samples(s))
         .collect())
 }
 
@@ -371,7 +375,7 @@ fn run_identify(
     }
     // f32 against f64 for the extended structures (issue 5): same logs, same settings.
     let precision =
-        host_tests::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
+        rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
     for p in &precision {
         println!(
             "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",

@@ -9,7 +9,7 @@
 //!   span where every channel has data, giving [`Segment`]s; grids start at each segment's
 //!   start.
 
-use crate::plant::{SensorSample, Sticks};
+use rotorid_sim::plant::{SensorSample, Sticks};
 
 /// Identifier rate (Hz).
 pub const RATE_HZ: f64 = 50.0;

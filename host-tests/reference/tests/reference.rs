@@ -1,16 +1,16 @@
-//! Sanity tests of the independent reference (`host_tests::reference`) and of the benchmark's
-//! competitor RLS implementations (`host_tests::dense_rls`, `flight-solver`).
+//! Sanity tests of the independent reference (`rotorid_reference`) and of the benchmark's
+//! competitor RLS implementations (`rotorid_reference::dense_rls`, `flight-solver`).
 
 use flight_solver::rls::{CovarianceGuards, InverseQrRls, Rls as FsRls, RlsParallel};
-use host_tests::dense_rls::{DenseRls, TsLikeStream};
-use host_tests::reference::{
-    body_up_in_inertial, cholesky_lower, table3, ts_regressor, HoverSample, MembershipFunction,
-    ModelKind, ReferenceHover, ReferenceModel, Rls, RuleBase, Shape,
-};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rotorid_reference::dense_rls::{DenseRls, TsLikeStream};
+use rotorid_reference::{
+    body_up_in_inertial, cholesky_lower, table3, ts_regressor, HoverSample, MembershipFunction,
+    ModelKind, ReferenceHover, ReferenceModel, Rls, RuleBase, Shape,
+};
 
 // ─── helpers ────────────────────────────────────────────────────────────────────────────────
 
@@ -320,7 +320,7 @@ fn reference_hover_records_innovations_predictions_and_converges() {
         ..Default::default()
     };
     let mut hover = ReferenceHover::new(1e8);
-    let mut previous_step: Option<host_tests::reference::HoverStep> = None;
+    let mut previous_step: Option<rotorid_reference::HoverStep> = None;
     let steps = 1200;
     for k in 0..steps {
         // Controls and attitude for sample k (feedback + excitation).

@@ -14,8 +14,8 @@ pub mod ulog;
 use std::path::Path;
 
 use crate::log::{self, LogErrorKind};
-use crate::plant::SensorSample;
 pub use resample::{Channels, Segment, Series};
+use rotorid_sim::plant::SensorSample;
 
 /// A log's format, from its first bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,7 +4,7 @@
 //! helicopter logs for tests and examples (no real helicopter log with these topics is public
 //! under a licence that allows committing it); neither parser crate writes logs.
 
-use crate::plant::SensorSample;
+use rotorid_sim::plant::SensorSample;
 
 /// Time stamp (µs) of a sample: `t` after a 1 s boot.
 fn micros(t: f64) -> u64 {

@@ -82,7 +82,7 @@ fn end_to_end_on_a_short_flight() {
             .expect("json");
     let variants = metrics["variants"].as_array().expect("variants");
     let names: Vec<&str> = variants.iter().filter_map(|v| v["name"].as_str()).collect();
-    let expected: Vec<&str> = host_tests::experiments::variants()
+    let expected: Vec<&str> = rotorid_cli::experiments::variants()
         .iter()
         .map(|v| v.name)
         .collect();
@@ -313,10 +313,10 @@ fn malformed_logs_give_positioned_errors() {
 }
 
 mod found_as_a_new_user {
-    use host_tests::experiments::identification_flight_for;
-    use host_tests::log::{parse_log, rate_unit_ratio, warnings, write_log_to};
+    use rotorid_cli::log::{parse_log, rate_unit_ratio, warnings, write_log_to};
+    use rotorid_sim::flights::identification_flight_for;
 
-    fn csv(samples: &[host_tests::plant::SensorSample]) -> String {
+    fn csv(samples: &[rotorid_sim::plant::SensorSample]) -> String {
         let mut v = Vec::new();
         write_log_to(&mut v, samples).unwrap();
         String::from_utf8(v).unwrap()
@@ -420,7 +420,7 @@ mod found_as_a_new_user {
             .all(|w| !w.contains("in degrees")));
         let deg: Vec<_> = flight
             .iter()
-            .map(|s| host_tests::plant::SensorSample {
+            .map(|s| rotorid_sim::plant::SensorSample {
                 roll: s.roll.to_degrees(),
                 ..*s
             })

@@ -1,8 +1,8 @@
 //! Tests of the X-Cell 60 plant simulator: trim figures, trim balance, sign conventions,
 //! response symmetry, reproducibility, pilot-held hover, verification flight, errors.
 
-use host_tests::plant::*;
 use nalgebra::Vector3;
+use rotorid_sim::plant::*;
 
 fn trim() -> HoverTrim {
     trim_hover(&XCell60::default(), 0.0).expect("trim converges")
@@ -416,18 +416,18 @@ fn flight_stepper_with_own_sticks() {
 /// `∂(ω̇_i)/∂x` by central differences at `state` (trim sticks, still air), where `perturb`
 /// moves one state component by `h`.
 fn derivative_of_rate(
-    state: &host_tests::plant::State,
+    state: &rotorid_sim::plant::State,
     axis: usize,
     h: f64,
-    perturb: impl Fn(&mut host_tests::plant::State, f64),
+    perturb: impl Fn(&mut rotorid_sim::plant::State, f64),
 ) -> f64 {
     let t = trim();
-    let p = host_tests::plant::XCell60::default();
+    let p = rotorid_sim::plant::XCell60::default();
     let pitch = p.blade_pitch(&t.sticks);
     let eval = |d: f64| {
         let mut s = *state;
         perturb(&mut s, d);
-        host_tests::plant::derivative(&p, &s, &pitch, &nalgebra::Vector3::zeros())
+        rotorid_sim::plant::derivative(&p, &s, &pitch, &nalgebra::Vector3::zeros())
             .0
             .omega[axis]
     };
@@ -443,10 +443,10 @@ fn local_dynamics_differ_between_hover_and_ten_metres_per_second() {
     fast.vel_body.x = 10.0;
     // [p, q, r] indices of ω.
     let (p, q, r) = (0, 1, 2);
-    let damping = |s: &host_tests::plant::State, axis: usize| {
+    let damping = |s: &rotorid_sim::plant::State, axis: usize| {
         derivative_of_rate(s, axis, 1e-3, |s, d| s.omega[axis] += d)
     };
-    let side = |s: &host_tests::plant::State, axis: usize| {
+    let side = |s: &rotorid_sim::plant::State, axis: usize| {
         derivative_of_rate(s, axis, 1e-3, |s, d| s.vel_body.y += d)
     };
     let (n_r0, n_r10) = (damping(&hover, r), damping(&fast, r));

@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use host_tests::experiments;
-use host_tests::import::{self, synth, ImportError, LogFormat};
-use host_tests::plant::SensorSample;
+use rotorid_cli::import::{self, synth, ImportError, LogFormat};
+use rotorid_sim::flights;
+use rotorid_sim::plant::SensorSample;
 
 fn real_log() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/logs/esc_status_log.ulg")
@@ -23,11 +23,11 @@ fn tmpdir(name: &str) -> PathBuf {
 
 /// `seconds` of the clean identification flight, on an exact 20 ms grid.
 fn heli_flight(seconds: f64) -> Vec<SensorSample> {
-    let config = host_tests::plant::FlightConfig {
+    let config = rotorid_sim::plant::FlightConfig {
         seed: 3,
         ..Default::default()
     };
-    let mut s = experiments::identification_flight_with(&config, seconds).expect("simulates");
+    let mut s = flights::identification_flight_with(&config, seconds).expect("simulates");
     s.iter_mut()
         .enumerate()
         .for_each(|(k, x)| x.t = k as f64 * 0.02);
@@ -54,7 +54,7 @@ fn real_px4_log_maps_resamples_and_splits() {
     let longest = imported.longest().expect("a segment");
     assert!(longest.len() >= 500, "{}", longest.len());
     // Frames and units: the logged FRD rates (rad/s) agree with the attitude's rate of change.
-    let k = host_tests::log::rate_unit_ratio(longest).expect("the flight moves enough to judge");
+    let k = rotorid_cli::log::rate_unit_ratio(longest).expect("the flight moves enough to judge");
     assert!((0.5..2.0).contains(&k), "ratio {k}");
     // Controls of a multicopter's actuator_controls_0: thrust in [0, 1], torques in [−1, 1].
     assert!(longest.iter().all(|s| (0.0..=1.0).contains(&s.sticks.col)));
@@ -243,7 +243,7 @@ fn cli_convert_and_identify_on_ulog_and_dataflash() {
         .output()
         .expect("runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let samples = host_tests::log::read_log(&csv).expect("valid CSV");
+    let samples = rotorid_cli::log::read_log(&csv).expect("valid CSV");
     let longest = import::import(&real_log()).expect("imports");
     assert_eq!(samples.len(), longest.longest().map_or(0, Vec::len));
 

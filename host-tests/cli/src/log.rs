@@ -1,7 +1,7 @@
 //! The flight-log CSV format (see `docs/log-format.md`): one row per sample, in the flight
 //! computer's convention (NED velocity, forward-right-down body rates in rad/s), read into
 //! [`SensorSample`]s and converted to the paper's axes by
-//! [`experiments::to_hover_samples`](crate::experiments::to_hover_samples).
+//! [`flights::to_hover_samples`](rotorid_sim::flights::to_hover_samples).
 //!
 //! | column | quantity | unit |
 //! |---|---|---|
@@ -18,7 +18,7 @@ use std::fmt;
 use std::io::{Read, Write};
 use std::path::Path;
 
-use crate::plant::{SensorSample, Sticks};
+use rotorid_sim::plant::{SensorSample, Sticks};
 
 /// The columns, in the order [`write_log`] writes them.
 pub const COLUMNS: [&str; 14] = [

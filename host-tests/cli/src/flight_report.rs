@@ -7,8 +7,8 @@ use std::path::Path;
 use rotorid::hover::RateStructure;
 
 use crate::experiments::ModelParameters;
-use crate::plant::{derivative, trim_hover, State, XCell60};
 use crate::report::Metrics;
+use rotorid_sim::plant::{derivative, trim_hover, State, XCell60};
 
 /// The variant every other is measured against.
 pub const BASELINE: &str = "extended plain";

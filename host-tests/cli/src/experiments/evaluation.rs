@@ -1,0 +1,316 @@
+//! Training on identification logs and evaluation on verification logs: one-step and
+//! free-run errors, convergence, timing.
+
+use rotorid::convergence::ConvergenceMonitor;
+use rotorid::hover::{HoverSample, HoverState};
+use serde::{Deserialize, Serialize};
+
+use rotorid_sim::flights::SAMPLE_RATE_HZ;
+
+use super::variants::{Identifier, ModelParameters, Variant};
+
+/// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`](fn@super::variants).
+pub const TABLE4_VARIANTS: (usize, usize) = (0, 1);
+
+/// Mean absolute error per state over `(prediction, actual)` pairs; zeros when empty.
+pub fn mean_abs_errors<'a>(
+    pairs: impl IntoIterator<Item = (&'a HoverState<f32>, &'a HoverState<f32>)>,
+) -> [f64; 6] {
+    let mut sum = [0.0f64; 6];
+    let mut n = 0usize;
+    for (pred, actual) in pairs {
+        let (p, x) = (pred.to_array(), actual.to_array());
+        for i in 0..6 {
+            sum[i] += (f64::from(p[i]) - f64::from(x[i])).abs();
+        }
+        n += 1;
+    }
+    if n > 0 {
+        sum.iter_mut().for_each(|s| *s /= n as f64);
+    }
+    sum
+}
+
+/// What training on a set of logs did.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrainingStats {
+    /// Samples offered.
+    pub samples: usize,
+    /// Updates made (samples that followed an accepted sample at the nominal interval).
+    pub updates: usize,
+    /// Sample chains started (one per log, plus one after each gap or rejection).
+    pub chains: usize,
+    /// Samples the identifier refused (out of range, numerically unusable).
+    pub rejected: usize,
+    /// Mean absolute one-step error of the still-adapting predictions over the training data
+    /// (each prediction made with θ learnt up to the sample it starts from).
+    pub one_step: [f64; 6],
+    /// The core's scale-free convergence indicator at the end of training
+    /// ([`rotorid::convergence::ConvergenceMonitor`], windows of [`CONVERGENCE_WINDOW`]
+    /// samples): ρ = Σe²/ΣΔy² per state over the last window (1 = no better than hold).
+    #[serde(default)]
+    pub convergence_ratio: [f64; 6],
+    /// Whether ρ had settled (changed by at most [`CONVERGENCE_TOLERANCE`] over
+    /// [`CONVERGENCE_SETTLE`] consecutive windows) per state.
+    #[serde(default)]
+    pub converged: [bool; 6],
+}
+
+/// Window of the convergence indicator in training reports (samples: 5 s at 50 Hz).
+pub const CONVERGENCE_WINDOW: u32 = 250;
+/// Relative change of ρ between windows counted as settled.
+pub const CONVERGENCE_TOLERANCE: f64 = 0.2;
+/// Consecutive settled windows required.
+pub const CONVERGENCE_SETTLE: u16 = 3;
+
+/// Trains `id` online over `logs` (each its own sample chain: [`Identifier::resume`] at the
+/// start of each log and after a gap or a refused sample). `progress` is called once per
+/// sample.
+pub fn train(
+    id: &mut dyn Identifier,
+    logs: &[Vec<HoverSample<f32>>],
+    progress: &mut dyn FnMut(),
+) -> TrainingStats {
+    let mut stats = TrainingStats::default();
+    let mut pairs: Vec<(HoverState<f32>, HoverState<f32>)> = Vec::new();
+    let mut monitor = ConvergenceMonitor::<f64, 6>::new(
+        CONVERGENCE_WINDOW,
+        CONVERGENCE_TOLERANCE,
+        CONVERGENCE_SETTLE,
+    )
+    .ok();
+    for log in logs {
+        let mut pending: Option<HoverState<f32>> = None;
+        let mut chained = false;
+        let mut previous: Option<HoverSample<f32>> = None;
+        for s in log {
+            progress();
+            stats.samples += 1;
+            let result = if chained {
+                match id.step(s) {
+                    Ok(out) => {
+                        stats.updates += 1;
+                        if let (Some(m), Some(p), Some(inn)) =
+                            (monitor.as_mut(), previous.as_ref(), out.innovation.as_ref())
+                        {
+                            let (a, b) = (p.state().to_array(), s.state().to_array());
+                            let increment: [f64; 6] =
+                                core::array::from_fn(|i| f64::from(b[i]) - f64::from(a[i]));
+                            let _ = m.observe(&inn.to_array().map(f64::from), &increment);
+                        }
+                        Ok(out.prediction)
+                    }
+                    Err(rotorid::Error::TimeStep { .. } | rotorid::Error::NonMonotonicTime) => {
+                        stats.chains += 1;
+                        pending = None;
+                        id.resume(s)
+                    }
+                    Err(e) => Err(e),
+                }
+            } else {
+                stats.chains += 1;
+                id.resume(s)
+            };
+            match result {
+                Ok(pred) => {
+                    if let Some(p) = pending {
+                        pairs.push((p, s.state()));
+                    }
+                    pending = Some(pred);
+                    chained = true;
+                    previous = Some(*s);
+                }
+                Err(_) => {
+                    stats.rejected += 1;
+                    pending = None;
+                    previous = None;
+                }
+            }
+        }
+    }
+    stats.one_step = mean_abs_errors(pairs.iter().map(|(p, a)| (p, a)));
+    if let Some(m) = monitor {
+        stats.convergence_ratio = m.status().ratio;
+        stats.converged = m.status().converged;
+    }
+    stats
+}
+
+/// Everything measured for one variant over the verification log.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct VariantResult {
+    /// [`Variant::name`].
+    pub name: String,
+    /// [`Variant::description`].
+    pub description: String,
+    /// Training statistics.
+    pub training: TrainingStats,
+    /// Hold baseline `x̂(k+1) = x(k)`: mean absolute one-step error per state.
+    pub hold_one_step: [f64; 6],
+    /// Table 4's definition: θ frozen after training, one-step predictions with `predict`.
+    pub one_step: [f64; 6],
+    /// θ still adapting during verification (`step`'s predictions).
+    pub one_step_adapting: [f64; 6],
+    /// Free run: the model fed its own predictions of `v^s` and `ω^b` over windows of
+    /// `window_s`, restarted from the measured state at each window, with measured attitude
+    /// and controls; mean absolute error over every predicted sample.
+    pub free_run: [f64; 6],
+    /// Hold baseline of the free run: the window's initial state held for the whole window
+    /// (scored over every window sample, whatever the model did).
+    pub hold_free_run: [f64; 6],
+    /// Free-run windows evaluated.
+    pub free_run_windows: usize,
+    /// Windows in which the model's own state left the core's sample limits (the rest of that
+    /// window is not scored).
+    pub free_run_diverged: usize,
+    /// Verification samples the frozen model could not predict from (out of range).
+    pub rejected_verification: usize,
+    /// Frozen one-step predictions: `one_step_predictions[k]` predicts sample k+1 (`None`
+    /// where refused).
+    #[serde(skip)]
+    pub one_step_predictions: Vec<Option<HoverState<f32>>>,
+    /// Free-run trajectory: `free_run_trace[k]` is the free-run estimate of sample k (`None`
+    /// at window starts and after a divergence).
+    #[serde(skip)]
+    pub free_run_trace: Vec<Option<HoverState<f32>>>,
+    /// Trained parameters (warm start).
+    #[serde(skip)]
+    pub parameters: Vec<ModelParameters>,
+}
+
+/// Result of [`free_run`].
+#[derive(Debug, Clone, Default)]
+pub struct FreeRun {
+    /// `trace[k]`: free-run estimate of sample k (`None` at window starts, after divergence).
+    pub trace: Vec<Option<HoverState<f32>>>,
+    /// Mean absolute error per state over every predicted sample.
+    pub error: [f64; 6],
+    /// The same for holding each window's initial state.
+    pub hold: [f64; 6],
+    /// Windows run.
+    pub windows: usize,
+    /// Windows in which the model's state left the core's sample limits.
+    pub diverged: usize,
+}
+
+/// Free-run simulation of a frozen model over `samples` in windows of `window` steps: each
+/// window starts from the measured state, then the model is fed its own predicted `v^s`,
+/// `ω^b` with the measured attitude and controls.
+pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize) -> FreeRun {
+    let window = window.max(1);
+    let mut trace = vec![None; samples.len()];
+    let mut pairs = Vec::new();
+    let mut hold_pairs = Vec::new();
+    let (mut windows, mut diverged) = (0, 0);
+    let mut start = 0;
+    while start + 1 < samples.len() {
+        windows += 1;
+        let end = (start + window).min(samples.len() - 1);
+        let x0 = samples[start].state();
+        let mut x = x0;
+        // The state before the window's first sample is measured; later, the model's own.
+        let mut before = start.checked_sub(1).map(|i| samples[i].state());
+        for j in start..end {
+            hold_pairs.push((x0, samples[j + 1].state()));
+        }
+        for j in start..end {
+            let mut s = samples[j];
+            s.velocity = x.velocity;
+            s.rates = x.rates;
+            match id.predict_after(before.as_ref(), &s) {
+                Ok(next) => {
+                    before = Some(x);
+                    x = next;
+                    trace[j + 1] = Some(next);
+                    pairs.push((next, samples[j + 1].state()));
+                }
+                Err(_) => {
+                    diverged += 1;
+                    break;
+                }
+            }
+        }
+        start = end;
+    }
+    FreeRun {
+        trace,
+        error: mean_abs_errors(pairs.iter().map(|(p, a)| (p, a))),
+        hold: mean_abs_errors(hold_pairs.iter().map(|(p, a)| (p, a))),
+        windows,
+        diverged,
+    }
+}
+
+/// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
+/// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run over
+/// windows of `window_s` seconds. `progress` is called once per training sample and once per
+/// verification sample.
+pub fn evaluate(
+    variant: &Variant,
+    training: &[Vec<HoverSample<f32>>],
+    verification: &[HoverSample<f32>],
+    window_s: f64,
+    warm_start: Option<&[ModelParameters]>,
+    progress: &mut dyn FnMut(),
+) -> Result<VariantResult, String> {
+    let mut id = (variant.build)(training).map_err(|e| format!("{}: {e}", variant.name))?;
+    if let Some(p) = warm_start {
+        id.load(p)
+            .map_err(|e| format!("{}: warm start: {e}", variant.name))?;
+    }
+    let training_stats = train(id.as_mut(), training, progress);
+
+    // Frozen one-step predictions (Table 4).
+    let mut preds = Vec::with_capacity(verification.len());
+    let mut rejected = 0;
+    for (k, s) in verification
+        .iter()
+        .take(verification.len().saturating_sub(1))
+        .enumerate()
+    {
+        progress();
+        let before = k.checked_sub(1).map(|i| verification[i].state());
+        let p = id.predict_after(before.as_ref(), s).ok();
+        if p.is_none() {
+            rejected += 1;
+        }
+        preds.push(p);
+    }
+    let actual: Vec<HoverState<f32>> = verification.iter().map(HoverSample::state).collect();
+    let one_step = mean_abs_errors(
+        preds
+            .iter()
+            .zip(actual.iter().skip(1))
+            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
+    );
+    let hold_one_step = mean_abs_errors(actual.iter().zip(actual.iter().skip(1)));
+
+    // Still adapting: a copy of the trained identifier keeps learning on the verification log.
+    let mut adapting = id.boxed_clone();
+    let stats = train(adapting.as_mut(), &[verification.to_vec()], &mut || {});
+
+    let window = (window_s * f64::from(SAMPLE_RATE_HZ)).round();
+    let window = if window.is_finite() && window >= 1.0 {
+        window as usize
+    } else {
+        1
+    };
+    let free = free_run(id.as_ref(), verification, window);
+
+    Ok(VariantResult {
+        name: variant.name.to_string(),
+        description: variant.description.to_string(),
+        training: training_stats,
+        hold_one_step,
+        one_step,
+        one_step_adapting: stats.one_step,
+        free_run: free.error,
+        hold_free_run: free.hold,
+        free_run_windows: free.windows,
+        free_run_diverged: free.diverged,
+        rejected_verification: rejected,
+        one_step_predictions: preds,
+        free_run_trace: free.trace,
+        parameters: id.parameters(),
+    })
+}

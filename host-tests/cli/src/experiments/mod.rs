@@ -1,0 +1,14 @@
+//! Identification on the paper's flights (Section 7, Table 4): the identifier variants,
+//! training, free run and evaluation.
+//!
+//! * [`one_step_errors`] and [`format_table4`]: the Table 4 analogue.
+//! * [`variants`], [`train`], [`free_run`], [`evaluate`]: every identifier the tool compares,
+//!   trained on identification logs and measured on verification logs.
+
+mod evaluation;
+mod table4;
+mod variants;
+
+pub use evaluation::*;
+pub use table4::*;
+pub use variants::*;

@@ -1,0 +1,359 @@
+//! The identifier variants the tool compares, behind one object-safe [`Identifier`] trait
+//! with parameter export/import as plain data.
+
+use rotorid::hover::{flight_sets, BodyFrame, Premise};
+use rotorid::hover::{
+    HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
+};
+use rotorid::rls::{Algorithm, RlsState};
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
+    PaperPlainIdentifier,
+};
+use serde::{Deserialize, Serialize};
+
+/// What the experiments need of an identifier: the core's [`HoverIdentifier`] API for `f32`,
+/// object-safe, plus parameter export/import as plain data. Implemented for every
+/// `HoverIdentifier<f32, …>` whose models hold [`RlsState`]s.
+pub trait Identifier {
+    /// [`HoverIdentifier::step`]: learn from the previous sample to this one, predict the next.
+    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error>;
+    /// [`HoverIdentifier::predict`]: one-step prediction with frozen θ.
+    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+    /// One-step prediction given the state of the sample before (see
+    /// [`HoverIdentifier::predict_after`]).
+    fn predict_after(
+        &self,
+        before: Option<&HoverState<f32>>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error>;
+    /// [`HoverIdentifier::resume`]: restart the sample chain (after a gap).
+    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+    /// A boxed copy (to verify a still-adapting copy next to the frozen one).
+    fn boxed_clone(&self) -> Box<dyn Identifier>;
+    /// θ and covariance factor of the four models (velocity, q̂, r̂, p̂), for warm start.
+    fn parameters(&self) -> Vec<ModelParameters>;
+    /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String>;
+}
+
+/// Exported state of one model (one [`RlsState`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelParameters {
+    /// `velocity` (Eq. 27), `q`, `r` or `p` (Eqs. 28–30).
+    pub model: String,
+    /// `covariance` (the paper's form) or `ud` (Bierman U-D).
+    pub algorithm: String,
+    /// Consequent parameters θ, rule-major (`[α1 α2]` or `[𝕀 γ]` per rule).
+    pub theta: Vec<f32>,
+    /// Packed covariance P, or packed U with D on the diagonal.
+    pub factor: Vec<f32>,
+    /// Updates made (a locally learnt model: the sum over its rules).
+    pub updates: u32,
+    /// A locally learnt model: the updates of each rule (empty for a global model).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rule_updates: Vec<u32>,
+}
+
+/// Conversion of one model's [`RlsState`] to and from [`ModelParameters`].
+pub trait ModelStateIo: Sized {
+    /// To plain data.
+    fn to_parameters(&self, model: &str) -> ModelParameters;
+    /// From plain data (sizes and algorithm checked here, values by the core's `import`).
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String>;
+}
+
+impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
+    fn to_parameters(&self, model: &str) -> ModelParameters {
+        ModelParameters {
+            model: model.to_string(),
+            algorithm: match self.algorithm {
+                Algorithm::Covariance => "covariance",
+                Algorithm::UdFactor => "ud",
+            }
+            .to_string(),
+            theta: self.theta.to_vec(),
+            factor: self.factor.to_vec(),
+            updates: self.updates,
+            rule_updates: Vec::new(),
+        }
+    }
+
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+        let algorithm = match p.algorithm.as_str() {
+            "covariance" => Algorithm::Covariance,
+            "ud" => Algorithm::UdFactor,
+            other => return Err(format!("model {}: unknown algorithm `{other}`", p.model)),
+        };
+        let theta: [f32; N] = p.theta.as_slice().try_into().map_err(|_| {
+            format!(
+                "model {}: {} parameters, this identifier has {N}",
+                p.model,
+                p.theta.len()
+            )
+        })?;
+        let factor: [f32; NP] = p.factor.as_slice().try_into().map_err(|_| {
+            format!(
+                "model {}: {} covariance entries, this identifier has {NP}",
+                p.model,
+                p.factor.len()
+            )
+        })?;
+        Ok(Self {
+            algorithm,
+            theta,
+            factor,
+            updates: p.updates,
+        })
+    }
+}
+
+/// A locally learnt model: every rule's θ_i and factor one after another (rule-major), and
+/// each rule's update count in `rule_updates`.
+impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState<f32, D, DP>; R] {
+    fn to_parameters(&self, model: &str) -> ModelParameters {
+        let mut p = ModelParameters {
+            model: model.to_string(),
+            algorithm: String::new(),
+            theta: Vec::new(),
+            factor: Vec::new(),
+            updates: 0,
+            rule_updates: Vec::new(),
+        };
+        for rule in self {
+            let one = rule.to_parameters(model);
+            p.algorithm = one.algorithm;
+            p.theta.extend(one.theta);
+            p.factor.extend(one.factor);
+            p.updates = p.updates.wrapping_add(one.updates);
+            p.rule_updates.push(one.updates);
+        }
+        p
+    }
+
+    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+        if p.theta.len() != R * D || p.factor.len() != R * DP || p.rule_updates.len() != R {
+            return Err(format!(
+                "model {}: {} parameters, {} covariance entries and {} rule counts; this identifier has {R} rules of {D} parameters and {DP} entries",
+                p.model,
+                p.theta.len(),
+                p.factor.len(),
+                p.rule_updates.len()
+            ));
+        }
+        let mut out = Vec::with_capacity(R);
+        for i in 0..R {
+            let one = ModelParameters {
+                model: p.model.clone(),
+                algorithm: p.algorithm.clone(),
+                theta: p.theta[i * D..(i + 1) * D].to_vec(),
+                factor: p.factor[i * DP..(i + 1) * DP].to_vec(),
+                updates: p.rule_updates[i],
+                rule_updates: Vec::new(),
+            };
+            out.push(RlsState::<f32, D, DP>::from_parameters(&one)?);
+        }
+        out.try_into()
+            .map_err(|_| format!("model {}: rule count", p.model))
+    }
+}
+
+/// Names of the four models in export order.
+pub const MODEL_NAMES: [&str; 4] = ["velocity", "q", "r", "p"];
+
+impl<V, Q, R, P> Identifier for HoverIdentifier<f32, V, Q, R, P>
+where
+    V: StateModel<f32> + Clone + 'static,
+    Q: StateModel<f32> + Clone + 'static,
+    R: StateModel<f32> + Clone + 'static,
+    P: StateModel<f32> + Clone + 'static,
+    V::State: ModelStateIo,
+    Q::State: ModelStateIo,
+    R::State: ModelStateIo,
+    P::State: ModelStateIo,
+{
+    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
+        HoverIdentifier::step(self, sample)
+    }
+
+    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::predict(self, sample)
+    }
+
+    fn predict_after(
+        &self,
+        before: Option<&HoverState<f32>>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::predict_after(self, before, sample)
+    }
+
+    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
+        HoverIdentifier::resume(self, sample)
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Identifier> {
+        Box::new(self.clone())
+    }
+
+    fn parameters(&self) -> Vec<ModelParameters> {
+        let s = self.export();
+        vec![
+            s.velocity.to_parameters(MODEL_NAMES[0]),
+            s.pitch.to_parameters(MODEL_NAMES[1]),
+            s.yaw.to_parameters(MODEL_NAMES[2]),
+            s.roll.to_parameters(MODEL_NAMES[3]),
+        ]
+    }
+
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String> {
+        let find = |name: &str| {
+            parameters
+                .iter()
+                .find(|p| p.model == name)
+                .ok_or_else(|| format!("no parameters for model `{name}`"))
+        };
+        let snapshot = HoverSnapshot {
+            velocity: V::State::from_parameters(find(MODEL_NAMES[0])?)?,
+            pitch: Q::State::from_parameters(find(MODEL_NAMES[1])?)?,
+            yaw: R::State::from_parameters(find(MODEL_NAMES[2])?)?,
+            roll: P::State::from_parameters(find(MODEL_NAMES[3])?)?,
+        };
+        self.import(&snapshot).map_err(|e| e.to_string())
+    }
+}
+
+/// Builds a fresh identifier from the training logs (which only variants that place their
+/// premise sets from data read).
+pub type BuildFn = fn(&[Vec<HoverSample<f32>>]) -> Result<Box<dyn Identifier>, rotorid::Error>;
+
+/// A named identifier configuration to evaluate. Adding a variant is one entry in
+/// [`variants`].
+#[derive(Clone, Copy)]
+pub struct Variant {
+    /// Name used in tables, JSON and file names.
+    pub name: &'static str,
+    /// One-line description for reports.
+    pub description: &'static str,
+    /// A fresh (untrained) identifier; given the training logs for variants that place their
+    /// premise sets from data.
+    pub build: BuildFn,
+}
+
+impl std::fmt::Debug for Variant {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Variant").field("name", &self.name).finish()
+    }
+}
+
+/// The identifier variants the report compares. The first two are Table 4's columns.
+pub fn variants() -> Vec<Variant> {
+    vec![
+        Variant {
+            name: "paper fuzzy",
+            description:
+                "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6, unscaled",
+            build: |_| {
+                Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
+                    HoverConfig::paper_robust(),
+                )?))
+            },
+        },
+        Variant {
+            name: "paper plain",
+            description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6, unscaled",
+            build: |_| {
+                Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
+                    HoverConfig::paper_robust(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended fuzzy",
+            description: "rates + damping, collective torque, trim (Table 3 sets, 18+9+9 rules); velocity + drag, tail-rotor side force (v_y sets, 3 rules); U-D RLS, helicopter scaling",
+            build: |_| {
+                Ok(Box::new(ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended plain",
+            description: "the extended terms with one rule per model; U-D RLS, helicopter scaling",
+            build: |_| {
+                Ok(Box::new(ExtendedPlainIdentifier::<f32>::extended_plain(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "paper local",
+            description: "paper fuzzy's structure and Table 3 sets, each rule its own weighted RLS (local learning)",
+            build: |_| {
+                Ok(Box::new(PaperLocalIdentifier::<f32>::paper_local(
+                    HoverConfig::paper_robust(),
+                )?))
+            },
+        },
+        Variant {
+            name: "extended local",
+            description: "extended fuzzy's structure and sets, each rule its own weighted RLS (local learning)",
+            build: |_| {
+                Ok(Box::new(ExtendedLocalIdentifier::<f32>::extended_local(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "flight",
+            description: "the flight default (FlightIdentifier): extended terms + speed and second-order rate terms, 3 rules per model on forward speed (0, 5, 10 m/s, σ 2.5), local learning, helicopter scaling",
+            build: |_| {
+                Ok(Box::new(FlightIdentifier::<f32>::flight(
+                    HoverConfig::default(),
+                    flight_sets(),
+                )?))
+            },
+        },
+        Variant {
+            name: "flight plain",
+            description: "the flight default's terms (incl. speed and second-order rate terms) with one rule per model: what the rules add",
+            build: |_| {
+                Ok(Box::new(FlightPlainIdentifier::<f32>::flight_plain(
+                    HoverConfig::default(),
+                )?))
+            },
+        },
+        Variant {
+            name: "flight data sets",
+            description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
+            build: |training| {
+                Ok(Box::new(FlightIdentifier::<f32>::flight(
+                    HoverConfig::default(),
+                    forward_speed_sets(training)?,
+                )?))
+            },
+        },
+    ]
+}
+
+/// The forward-speed sets of the flight identifier placed from training logs
+/// ([`rotorid::premise::quantile_sets`], three sets; noise from the first log's first
+/// differences). The core's [`flight_sets`] when there are too few samples.
+pub fn forward_speed_sets(
+    training: &[Vec<HoverSample<f32>>],
+) -> Result<rotorid::rule_base::PremiseSets<f32>, rotorid::Error> {
+    let forward = |s: &HoverSample<f32>| {
+        let frame = BodyFrame::of(&s.attitude);
+        Premise::HeadingVelocity.of(s, &frame)[0]
+    };
+    let mut values: Vec<f32> = training.iter().flatten().map(forward).collect();
+    let first: Vec<f32> = training
+        .first()
+        .map_or_else(Vec::new, |l| l.iter().map(forward).collect());
+    let mut scratch = vec![0.0f32; first.len()];
+    match rotorid::premise::noise_std(&first, &mut scratch) {
+        Some(noise) if !values.is_empty() => rotorid::premise::quantile_sets(&mut values, 3, noise),
+        _ => Ok(flight_sets()),
+    }
+}
