@@ -5,6 +5,7 @@ use rotorid::hover::{flight_sets, BodyFrame, Premise};
 use rotorid::hover::{
     HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
 };
+use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Algorithm, RlsState};
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
@@ -54,6 +55,69 @@ pub struct ModelParameters {
     /// A locally learnt model: the updates of each rule (empty for a global model).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rule_updates: Vec<u32>,
+    /// The premise the rules are scheduled on and each premise variable's sets, so that a
+    /// firmware can rebuild the same rule base for a warm start (the C interface's
+    /// `rotorid_flight_sets_t` takes the forward-speed sets of `premise: "heading-velocity"`).
+    /// Absent for a model with one rule.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub premise: Option<PremiseParameters>,
+}
+
+/// A model's premise and sets, as written next to its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PremiseParameters {
+    /// `velocity` (`[v_x v_y v_z]`, m/s), `rates` (`[q r p]`, deg/s) or `heading-velocity`
+    /// (`[forward right up]`, m/s).
+    pub kind: String,
+    /// Each premise variable's sets in rule order (an empty list: the variable takes no part).
+    pub variables: Vec<Vec<SetParameters>>,
+}
+
+/// One membership function: `μ(x) = exp(−½((x − c)/σ)²)`, held at 1 below the centre for a
+/// `left` shoulder and above it for a `right` one.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetParameters {
+    /// `left`, `gaussian` or `right`.
+    pub shape: String,
+    /// Centre c (the premise variable's unit).
+    pub centre: f32,
+    /// Spread σ (same unit, > 0).
+    pub spread: f32,
+}
+
+impl PremiseParameters {
+    /// A model's premise and sets (`None` for a model whose rule base has one rule).
+    pub fn of<M: StateModel<f32>>(model: &M) -> Option<Self> {
+        let (premise, variables) = model.premise_sets();
+        if variables.iter().all(|v| v.is_empty()) {
+            return None;
+        }
+        let kind = match premise {
+            Premise::Velocity => "velocity",
+            Premise::Rates => "rates",
+            Premise::HeadingVelocity => "heading-velocity",
+            _ => "unknown",
+        };
+        let set = |mf: &MembershipFunction<f32>| {
+            let (shape, (centre, spread)) = match mf {
+                MembershipFunction::LeftShoulder { .. } => ("left", mf.parameters()),
+                MembershipFunction::Gaussian { .. } => ("gaussian", mf.parameters()),
+                MembershipFunction::RightShoulder { .. } => ("right", mf.parameters()),
+            };
+            SetParameters {
+                shape: shape.to_string(),
+                centre,
+                spread,
+            }
+        };
+        Some(Self {
+            kind: kind.to_string(),
+            variables: variables
+                .iter()
+                .map(|v| v.iter().map(set).collect())
+                .collect(),
+        })
+    }
 }
 
 /// Conversion of one model's [`RlsState`] to and from [`ModelParameters`].
@@ -77,6 +141,7 @@ impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
             factor: self.factor.to_vec(),
             updates: self.updates,
             rule_updates: Vec::new(),
+            premise: None,
         }
     }
 
@@ -120,6 +185,7 @@ impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState
             factor: Vec::new(),
             updates: 0,
             rule_updates: Vec::new(),
+            premise: None,
         };
         for rule in self {
             let one = rule.to_parameters(model);
@@ -151,6 +217,7 @@ impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState
                 factor: p.factor[i * DP..(i + 1) * DP].to_vec(),
                 updates: p.rule_updates[i],
                 rule_updates: Vec::new(),
+                premise: None,
             };
             out.push(RlsState::<f32, D, DP>::from_parameters(&one)?);
         }
@@ -199,11 +266,27 @@ where
 
     fn parameters(&self) -> Vec<ModelParameters> {
         let s = self.export();
+        let with = |mut p: ModelParameters, premise| {
+            p.premise = premise;
+            p
+        };
         vec![
-            s.velocity.to_parameters(MODEL_NAMES[0]),
-            s.pitch.to_parameters(MODEL_NAMES[1]),
-            s.yaw.to_parameters(MODEL_NAMES[2]),
-            s.roll.to_parameters(MODEL_NAMES[3]),
+            with(
+                s.velocity.to_parameters(MODEL_NAMES[0]),
+                PremiseParameters::of(self.velocity_model()),
+            ),
+            with(
+                s.pitch.to_parameters(MODEL_NAMES[1]),
+                PremiseParameters::of(self.pitch_model()),
+            ),
+            with(
+                s.yaw.to_parameters(MODEL_NAMES[2]),
+                PremiseParameters::of(self.yaw_model()),
+            ),
+            with(
+                s.roll.to_parameters(MODEL_NAMES[3]),
+                PremiseParameters::of(self.roll_model()),
+            ),
         ]
     }
 
@@ -355,5 +438,45 @@ pub fn forward_speed_sets(
     match rotorid::premise::noise_std(&first, &mut scratch) {
         Some(noise) if !values.is_empty() => rotorid::premise::quantile_sets(&mut values, 3, noise),
         _ => Ok(flight_sets()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameter_export_carries_the_premise_sets_and_reads_back() {
+        let id = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
+        let params = Identifier::parameters(&id);
+        for p in &params {
+            let premise = p.premise.as_ref().expect("three rules per model");
+            assert_eq!(premise.kind, "heading-velocity");
+            let shapes: Vec<(&str, f32, f32)> = premise.variables[0]
+                .iter()
+                .map(|s| (s.shape.as_str(), s.centre, s.spread))
+                .collect();
+            assert_eq!(
+                shapes,
+                [
+                    ("left", 0.0, 2.5),
+                    ("gaussian", 5.0, 2.5),
+                    ("right", 10.0, 2.5)
+                ]
+            );
+            assert!(premise.variables[1].is_empty() && premise.variables[2].is_empty());
+        }
+        // The JSON round trip keeps them, and a warm start still loads the states.
+        let json = serde_json::to_string(&params).unwrap();
+        let back: Vec<ModelParameters> = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, params);
+        let mut fresh =
+            FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
+        fresh.load(&back).unwrap();
+        // A one-rule model writes none.
+        let plain = FlightPlainIdentifier::<f32>::flight_plain(HoverConfig::default()).unwrap();
+        assert!(Identifier::parameters(&plain)
+            .iter()
+            .all(|p| p.premise.is_none()));
     }
 }
