@@ -1,5 +1,8 @@
 //! Host driver for `firmware-example` running in QEMU (`mps2-an386`).
 //!
+//! (Over 600 lines: building, booting and talking to the firmware, and its defmt log, are one
+//! driver; its tests are in `tests/firmware_link.rs`.)
+//!
 //! [`FirmwareLink::boot`] builds the firmware (`cargo build --release` in `firmware-example`,
 //! once per process), starts `qemu-system-arm` with UART0 on a loopback TCP port and
 //! semihosting on, connects, and waits for the firmware's `Hello`. Then [`FirmwareLink::send`]

@@ -13,6 +13,7 @@ pub mod import;
 pub mod log;
 pub mod precision;
 pub mod report;
+pub mod results;
 
 // The core's golden support holds the one f32 → T sample conversion (`convert`) that
 // `precision` uses; the rest of it serves the tests.

@@ -417,7 +417,7 @@ fn run_report(
         Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
         None => None,
     };
-    let md = report::results_markdown(
+    let md = rotorid_cli::results::results_markdown(
         &load(realistic)?,
         &load(clean)?,
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),

@@ -1,0 +1,121 @@
+//! Reports of an identification run: metrics as JSON, the Table 4 analogue, and PNG plots in
+//! the manner of the paper's Figures 2–5 (actual against estimated, and the errors), plus a
+//! free-run figure.
+
+use serde::{Deserialize, Serialize};
+
+use crate::experiments::{
+    improvement_percent, VariantResult, PAPER_TABLE4_FUZZY, PAPER_TABLE4_IMPROVEMENT,
+    PAPER_TABLE4_PLAIN, STATE_NAMES, STATE_UNITS,
+};
+
+/// The Table 4 analogue beside the paper's figures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Table4 {
+    /// Fuzzy variant's frozen one-step mean absolute errors `[v_x v_y v_z]` m/s, `[q r p]` deg/s.
+    pub fuzzy: [f64; 6],
+    /// Plain variant's.
+    pub plain: [f64; 6],
+    /// `100 (plain − fuzzy)/plain` (%).
+    pub improvement: [f64; 6],
+    /// The paper's fuzzy column.
+    pub paper_fuzzy: [f64; 6],
+    /// The paper's plain column.
+    pub paper_plain: [f64; 6],
+    /// The paper's improvement column as printed (%).
+    pub paper_improvement: [f64; 6],
+}
+
+impl Table4 {
+    /// From the fuzzy and plain error arrays.
+    pub fn new(fuzzy: [f64; 6], plain: [f64; 6]) -> Self {
+        Self {
+            fuzzy,
+            plain,
+            improvement: improvement_percent(&fuzzy, &plain),
+            paper_fuzzy: PAPER_TABLE4_FUZZY,
+            paper_plain: PAPER_TABLE4_PLAIN,
+            paper_improvement: PAPER_TABLE4_IMPROVEMENT,
+        }
+    }
+}
+
+/// Everything `rotorid identify` measured (written as `metrics.json`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Metrics {
+    /// Training logs.
+    pub training_files: Vec<String>,
+    /// Training samples in all.
+    pub training_samples: usize,
+    /// Verification log.
+    pub verification_file: String,
+    /// Verification samples.
+    pub verification_samples: usize,
+    /// Free-run window (s).
+    pub window_s: f64,
+    /// State names and units, in the order of every array.
+    pub states: Vec<String>,
+    /// Per variant.
+    pub variants: Vec<VariantResult>,
+    /// Table 4 analogue (first two variants).
+    pub table4: Option<Table4>,
+    /// f32 against f64 parameter agreement of the extended structures.
+    #[serde(default)]
+    pub precision: Vec<crate::precision::PrecisionResult>,
+}
+
+/// State labels `name (unit)`.
+pub fn state_labels() -> Vec<String> {
+    STATE_NAMES
+        .iter()
+        .zip(STATE_UNITS)
+        .map(|(n, u)| format!("{n} ({u})"))
+        .collect()
+}
+
+/// A per-variant summary table (plain text): hold baseline, frozen one-step, adapting
+/// one-step, free run and its hold baseline.
+pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let labels = state_labels();
+    for v in variants {
+        let _ = writeln!(s, "{} — {}", v.name, v.description);
+        let _ = writeln!(
+            s,
+            "  {:<12} {:>10} {:>10} {:>10} {:>12} {:>12} {:>16}",
+            "state", "hold", "one-step", "adapting", "free run", "hold (run)", "converged (ρ)"
+        );
+        for (i, label) in labels.iter().enumerate() {
+            let t = &v.training;
+            let _ = writeln!(
+                s,
+                "  {:<12} {:>10.4} {:>10.4} {:>10.4} {:>12.4} {:>12.4} {:>16}",
+                label,
+                v.hold_one_step[i],
+                v.one_step[i],
+                v.one_step_adapting[i],
+                v.free_run[i],
+                v.hold_free_run[i],
+                format!(
+                    "{} ({:.3})",
+                    if t.converged[i] { "yes" } else { "no" },
+                    t.convergence_ratio[i]
+                )
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  free run: {} windows of {window_s} s, {} left the sample limits",
+            v.free_run_windows, v.free_run_diverged
+        );
+    }
+    s
+}
+
+mod figures;
+mod markdown;
+
+pub use figures::write_figures;
+pub(crate) use markdown::{better_states, list};
+pub use markdown::{extended_markdown, table4_markdown, variants_markdown};
