@@ -7,7 +7,7 @@ use std::path::Path;
 use rotorid::hover::RateStructure;
 
 use crate::experiments::ModelParameters;
-use crate::report::Metrics;
+use crate::report::{Metrics, ReportError};
 use rotorid_sim::plant::{derivative, trim_hover, State, XCell60};
 
 /// The variant every other is measured against.
@@ -94,8 +94,8 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
 /// Rate derivatives of the plant at the hover trim state flown at `forward` m/s (body x):
 /// `[∂ω̇/∂ω (1/s), ∂ω̇/∂(speed) (deg/s² per m/s)]` for q, r, p, with the speed of each rate
 /// model's κ term (forward for q, rightward for r and p). Central differences, flapping held.
-fn plant_derivatives(params: &XCell60, forward: f64) -> Result<[[f64; 2]; 3], String> {
-    let trim = trim_hover(params, 0.0).map_err(|e| e.to_string())?;
+fn plant_derivatives(params: &XCell60, forward: f64) -> Result<[[f64; 2]; 3], ReportError> {
+    let trim = trim_hover(params, 0.0).map_err(ReportError::Plant)?;
     let pitch = params.blade_pitch(&trim.sticks);
     let mut at = trim.state;
     at.vel_body.x = forward;
@@ -149,7 +149,7 @@ pub fn flight_markdown(
     hover: &Metrics,
     envelope: &Metrics,
     envelope_dir: &Path,
-) -> Result<String, String> {
+) -> Result<String, ReportError> {
     let mut s = String::new();
     s += "### Criteria\n\n";
     s += &criteria(hover, envelope);
@@ -166,11 +166,17 @@ pub fn flight_markdown(
     s += &crate::report::variants_markdown(envelope);
 
     let path = envelope_dir.join(format!("params-{FLIGHT}.json"));
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
+        path: path.clone(),
+        source,
+    })?;
     let params: Vec<ModelParameters> =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        serde_json::from_str(&text).map_err(|source| ReportError::Json {
+            path: path.clone(),
+            source,
+        })?;
     let period = 0.02;
-    let learnt = identified(&params, period).ok_or("flight parameters: unexpected layout")?;
+    let learnt = identified(&params, period).ok_or(ReportError::Layout { path })?;
     let plant = XCell60::default();
     s += "\n### Why: what each speed region learnt\n\n";
     s += "Each rate model's rules are local linear models of their speed region. Identified \

@@ -16,13 +16,14 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use rotorid_cli::experiments::{self, ModelParameters, TABLE4_VARIANTS};
-use rotorid_cli::import;
-use rotorid_cli::log;
-use rotorid_cli::report::{self, Metrics, Table4};
+use rotorid_cli::error_chain::Chain;
+use rotorid_cli::experiments::{self, EvaluateError, ModelParameters, TABLE4_VARIANTS};
+use rotorid_cli::import::{self, ImportError};
+use rotorid_cli::log::{self, LogError};
+use rotorid_cli::report::{self, FigureError, Metrics, ReportError, Table4};
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
-use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig};
+use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig, PlantError};
 
 #[derive(Parser)]
 #[command(
@@ -127,6 +128,88 @@ enum Command {
     },
 }
 
+/// What went wrong in a command; `main` prints it with its causes ([`Chain`]).
+#[derive(Debug, thiserror::Error)]
+enum CliError {
+    #[error("--duration must be in (0, 36000] s, got {0}")]
+    Duration(f64),
+    #[error(
+        "--duration {given} s: the identification flight (the four Table 2 sweeps) lasts {full} s; \
+         give at most that, or fly a verification flight for longer"
+    )]
+    LongerThanSweeps { given: f64, full: f64 },
+    #[error("--duration does not apply to envelope flights (their length is their schedule's)")]
+    EnvelopeDuration,
+    #[error("--window must be in (0, 3600] s, got {0}")]
+    Window(f64),
+    #[error("simulation")]
+    Simulation(#[source] PlantError),
+    #[error(transparent)]
+    Log(#[from] LogError),
+    #[error(transparent)]
+    Import(#[from] ImportError),
+    #[error("{}: no samples", .0.display())]
+    NoSamples(PathBuf),
+    #[error("{}: needs at least 2 samples", .0.display())]
+    TooFewSamples(PathBuf),
+    #[error("{}: cannot read", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: cannot write", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: cannot create the directory", path.display())]
+    CreateDir {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: not the expected JSON", path.display())]
+    ParseJson {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+    #[error("{}: cannot encode as JSON", path.display())]
+    ToJson {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+    #[error("progress bar")]
+    ProgressBar(#[from] indicatif::style::TemplateError),
+    #[error(transparent)]
+    Evaluate(#[from] EvaluateError),
+    #[error("f32 against f64")]
+    Precision(#[source] rotorid::Error),
+    #[error(transparent)]
+    Figure(#[from] FigureError),
+    #[error(transparent)]
+    Report(#[from] ReportError),
+}
+
+fn read_text(path: &Path) -> Result<String, CliError> {
+    std::fs::read_to_string(path).map_err(|source| CliError::Read {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
+    serde_json::from_str(&read_text(path)?).map_err(|source| CliError::ParseJson {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn write_text(path: &Path, text: String) -> Result<(), CliError> {
+    std::fs::write(path, text).map_err(|source| CliError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -166,7 +249,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", Chain(&e));
             ExitCode::FAILURE
         }
     }
@@ -178,18 +261,16 @@ fn run_simulate(
     duration: Option<f64>,
     clean: bool,
     output: &Path,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if let Some(d) = duration {
         if !(d.is_finite() && d > 0.0 && d <= 36_000.0) {
-            return Err(format!("--duration must be in (0, 36000] s, got {d}"));
+            return Err(CliError::Duration(d));
         }
     }
     if let (Kind::Identification, Some(d)) = (kind, duration) {
         let full = flights::identification_duration_s();
         if d > full {
-            return Err(format!(
-                "--duration {d} s: the identification flight (the four Table 2 sweeps) lasts {full} s; give at most that, or fly a verification flight for longer"
-            ));
+            return Err(CliError::LongerThanSweeps { given: d, full });
         }
     }
     let samples = match (kind, clean) {
@@ -218,7 +299,7 @@ fn run_simulate(
                 _ => EnvelopeKind::Verification,
             };
             if duration.is_some() {
-                return Err("--duration does not apply to envelope flights (their length is their schedule's)".into());
+                return Err(CliError::EnvelopeDuration);
             }
             let config = if clean {
                 clean_config(seed)
@@ -228,8 +309,8 @@ fn run_simulate(
             envelope::envelope_flight_with(&config, kind)
         }
     }
-    .map_err(|e| format!("simulation: {e}"))?;
-    log::write_log(output, &samples).map_err(|e| e.to_string())?;
+    .map_err(CliError::Simulation)?;
+    log::write_log(output, &samples)?;
     eprintln!(
         "wrote {} samples ({:.1} s) to {}",
         samples.len(),
@@ -248,8 +329,8 @@ fn clean_config(seed: u64) -> FlightConfig {
 
 /// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:
 /// every usable segment (training), else the longest (verification).
-fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, String> {
-    let imported = import::import(path).map_err(|e| e.to_string())?;
+fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, CliError> {
+    let imported = import::import(path)?;
     let segments = import::segments_for_identify(&imported, all);
     report_import(path, &imported, &segments);
     Ok(segments
@@ -270,13 +351,13 @@ fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segm
     }
 }
 
-fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
-    let imported = import::import(input).map_err(|e| e.to_string())?;
+fn run_convert(input: &Path, output: &Path) -> Result<(), CliError> {
+    let imported = import::import(input)?;
     let seg = imported
         .longest()
-        .ok_or_else(|| format!("{}: no samples", input.display()))?;
+        .ok_or_else(|| CliError::NoSamples(input.to_path_buf()))?;
     report_import(input, &imported, &[seg]);
-    log::write_log(output, seg).map_err(|e| e.to_string())?;
+    log::write_log(output, seg)?;
     eprintln!(
         "wrote {} samples ({:.2}–{:.2} s, the longest of {} segments) to {}",
         seg.len(),
@@ -288,10 +369,12 @@ fn run_convert(input: &Path, output: &Path) -> Result<(), String> {
     Ok(())
 }
 
-fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), String> {
-    let text =
-        serde_json::to_string_pretty(value).map_err(|e| format!("{}: {e}", path.display()))?;
-    std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
+fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(value).map_err(|source| CliError::ToJson {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_text(path, text + "\n")
 }
 
 fn run_identify(
@@ -302,9 +385,9 @@ fn run_identify(
     plot_span: Option<f64>,
     no_plots: bool,
     warm_start: Option<&Path>,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
-        return Err(format!("--window must be in (0, 3600] s, got {window}"));
+        return Err(CliError::Window(window));
     }
     let mut training = Vec::new();
     for p in train {
@@ -313,26 +396,22 @@ fn run_identify(
     let verification = read(verify, false)?
         .into_iter()
         .next()
-        .ok_or_else(|| format!("{}: no samples", verify.display()))?;
+        .ok_or_else(|| CliError::NoSamples(verify.to_path_buf()))?;
     if verification.len() < 2 {
-        return Err(format!("{}: needs at least 2 samples", verify.display()));
+        return Err(CliError::TooFewSamples(verify.to_path_buf()));
     }
-    let warm: Option<Vec<ModelParameters>> = match warm_start {
-        Some(p) => {
-            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-            Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?)
-        }
-        None => None,
-    };
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let warm: Option<Vec<ModelParameters>> = warm_start.map(read_json).transpose()?;
+    std::fs::create_dir_all(out).map_err(|source| CliError::CreateDir {
+        path: out.to_path_buf(),
+        source,
+    })?;
 
     let variants = experiments::variants();
     let n_train: usize = training.iter().map(Vec::len).sum();
     let total = (n_train + verification.len()) * variants.len();
     let bar = ProgressBar::new(total as u64);
     bar.set_style(
-        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})")
-            .map_err(|e| e.to_string())?
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})")?
             .progress_chars("=> "),
     );
     let mut results = Vec::new();
@@ -375,7 +454,7 @@ fn run_identify(
     }
     // f32 against f64 for the extended structures (issue 5): same logs, same settings.
     let precision =
-        rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(|e| e.to_string())?;
+        rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(CliError::Precision)?;
     for p in &precision {
         println!(
             "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",
@@ -408,11 +487,8 @@ fn run_report(
     envelope: Option<&Path>,
     elapsed: Option<f64>,
     output: &Path,
-) -> Result<(), String> {
-    let load = |p: &Path| -> Result<Metrics, String> {
-        let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
-    };
+) -> Result<(), CliError> {
+    let load = read_json::<Metrics>;
     let envelope = match envelope {
         Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
         None => None,
@@ -423,5 +499,5 @@ fn run_report(
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),
         elapsed,
     )?;
-    std::fs::write(output, md).map_err(|e| format!("{}: {e}", output.display()))
+    write_text(output, md)
 }

@@ -9,7 +9,7 @@ pub fn results_markdown(
     clean: &Metrics,
     envelope: Option<(&Metrics, &std::path::Path)>,
     elapsed_s: Option<f64>,
-) -> Result<String, String> {
+) -> Result<String, ReportError> {
     let flight = match envelope {
         Some((m, dir)) => crate::flight_report::flight_markdown(realistic, m, dir)?,
         None => "(not run: `rotorid report` was given no `--envelope` metrics)\n".to_string(),
@@ -17,15 +17,19 @@ pub fn results_markdown(
     let t = realistic
         .table4
         .as_ref()
-        .ok_or("realistic metrics have no Table 4")?;
+        .ok_or(ReportError::MissingTable4 { run: "realistic" })?;
     let tc = clean
         .table4
         .as_ref()
-        .ok_or("clean metrics have no Table 4")?;
+        .ok_or(ReportError::MissingTable4 { run: "clean" })?;
     let (better, worse) = better_states(t);
     let (better_c, worse_c) = better_states(tc);
-    let fz = realistic.variants.first().ok_or("no variants")?;
-    let pl = realistic.variants.get(1).ok_or("no plain variant")?;
+    let missing = |role| ReportError::MissingVariant {
+        run: "realistic",
+        role,
+    };
+    let fz = realistic.variants.first().ok_or_else(|| missing("fuzzy"))?;
+    let pl = realistic.variants.get(1).ok_or_else(|| missing("plain"))?;
     let mut template = include_str!("report_results.md").to_string();
     let subs: Vec<(&str, String)> = vec![
         ("{{FLIGHT}}", flight),

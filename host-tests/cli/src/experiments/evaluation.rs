@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use rotorid_sim::flights::SAMPLE_RATE_HZ;
 
+use super::error::EvaluateError;
 use super::variants::{Identifier, ModelParameters, Variant};
 
 /// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`](fn@super::variants).
@@ -252,11 +253,16 @@ pub fn evaluate(
     window_s: f64,
     warm_start: Option<&[ModelParameters]>,
     progress: &mut dyn FnMut(),
-) -> Result<VariantResult, String> {
-    let mut id = (variant.build)(training).map_err(|e| format!("{}: {e}", variant.name))?;
+) -> Result<VariantResult, EvaluateError> {
+    let mut id = (variant.build)(training).map_err(|source| EvaluateError::Build {
+        variant: variant.name,
+        source,
+    })?;
     if let Some(p) = warm_start {
-        id.load(p)
-            .map_err(|e| format!("{}: warm start: {e}", variant.name))?;
+        id.load(p).map_err(|source| EvaluateError::WarmStart {
+            variant: variant.name,
+            source,
+        })?;
     }
     let training_stats = train(id.as_mut(), training, progress);
 

@@ -4,11 +4,14 @@
 //! * [`one_step_errors`] and [`format_table4`]: the Table 4 analogue.
 //! * [`variants`], [`train`], [`free_run`], [`evaluate`]: every identifier the tool compares,
 //!   trained on identification logs and measured on verification logs.
+//! * [`ParametersError`], [`EvaluateError`]: what can fail on the way.
 
+mod error;
 mod evaluation;
 mod table4;
 mod variants;
 
+pub use error::*;
 pub use evaluation::*;
 pub use table4::*;
 pub use variants::*;

@@ -14,6 +14,8 @@ use rotorid::{
 };
 use serde::{Deserialize, Serialize};
 
+use super::error::ParametersError;
+
 /// What the experiments need of an identifier: the core's [`HoverIdentifier`] API for `f32`,
 /// object-safe, plus parameter export/import as plain data. Implemented for every
 /// `HoverIdentifier<f32, …>` whose models hold [`RlsState`]s.
@@ -36,7 +38,7 @@ pub trait Identifier {
     /// θ and covariance factor of the four models (velocity, q̂, r̂, p̂), for warm start.
     fn parameters(&self) -> Vec<ModelParameters>;
     /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
-    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String>;
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), ParametersError>;
 }
 
 /// Exported state of one model (one [`RlsState`]).
@@ -125,7 +127,7 @@ pub trait ModelStateIo: Sized {
     /// To plain data.
     fn to_parameters(&self, model: &str) -> ModelParameters;
     /// From plain data (sizes and algorithm checked here, values by the core's `import`).
-    fn from_parameters(p: &ModelParameters) -> Result<Self, String>;
+    fn from_parameters(p: &ModelParameters) -> Result<Self, ParametersError>;
 }
 
 impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
@@ -145,26 +147,35 @@ impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
         }
     }
 
-    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+    fn from_parameters(p: &ModelParameters) -> Result<Self, ParametersError> {
         let algorithm = match p.algorithm.as_str() {
             "covariance" => Algorithm::Covariance,
             "ud" => Algorithm::UdFactor,
-            other => return Err(format!("model {}: unknown algorithm `{other}`", p.model)),
+            other => {
+                return Err(ParametersError::UnknownAlgorithm {
+                    model: p.model.clone(),
+                    algorithm: other.to_string(),
+                })
+            }
         };
-        let theta: [f32; N] = p.theta.as_slice().try_into().map_err(|_| {
-            format!(
-                "model {}: {} parameters, this identifier has {N}",
-                p.model,
-                p.theta.len()
-            )
-        })?;
-        let factor: [f32; NP] = p.factor.as_slice().try_into().map_err(|_| {
-            format!(
-                "model {}: {} covariance entries, this identifier has {NP}",
-                p.model,
-                p.factor.len()
-            )
-        })?;
+        let theta: [f32; N] =
+            p.theta
+                .as_slice()
+                .try_into()
+                .map_err(|_| ParametersError::ThetaLength {
+                    model: p.model.clone(),
+                    found: p.theta.len(),
+                    expected: N,
+                })?;
+        let factor: [f32; NP] =
+            p.factor
+                .as_slice()
+                .try_into()
+                .map_err(|_| ParametersError::FactorLength {
+                    model: p.model.clone(),
+                    found: p.factor.len(),
+                    expected: NP,
+                })?;
         Ok(Self {
             algorithm,
             theta,
@@ -198,15 +209,18 @@ impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState
         p
     }
 
-    fn from_parameters(p: &ModelParameters) -> Result<Self, String> {
+    fn from_parameters(p: &ModelParameters) -> Result<Self, ParametersError> {
+        let layout = || ParametersError::RuleLayout {
+            model: p.model.clone(),
+            theta: p.theta.len(),
+            factor: p.factor.len(),
+            rule_counts: p.rule_updates.len(),
+            rules: R,
+            per_rule: D,
+            factor_per_rule: DP,
+        };
         if p.theta.len() != R * D || p.factor.len() != R * DP || p.rule_updates.len() != R {
-            return Err(format!(
-                "model {}: {} parameters, {} covariance entries and {} rule counts; this identifier has {R} rules of {D} parameters and {DP} entries",
-                p.model,
-                p.theta.len(),
-                p.factor.len(),
-                p.rule_updates.len()
-            ));
+            return Err(layout());
         }
         let mut out = Vec::with_capacity(R);
         for i in 0..R {
@@ -221,8 +235,8 @@ impl<const R: usize, const D: usize, const DP: usize> ModelStateIo for [RlsState
             };
             out.push(RlsState::<f32, D, DP>::from_parameters(&one)?);
         }
-        out.try_into()
-            .map_err(|_| format!("model {}: rule count", p.model))
+        // R states were pushed after the check above: cannot fail, but no panic either.
+        out.try_into().map_err(|_| layout())
     }
 }
 
@@ -290,12 +304,12 @@ where
         ]
     }
 
-    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), String> {
-        let find = |name: &str| {
+    fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), ParametersError> {
+        let find = |name: &'static str| {
             parameters
                 .iter()
                 .find(|p| p.model == name)
-                .ok_or_else(|| format!("no parameters for model `{name}`"))
+                .ok_or(ParametersError::MissingModel(name))
         };
         let snapshot = HoverSnapshot {
             velocity: V::State::from_parameters(find(MODEL_NAMES[0])?)?,
@@ -303,7 +317,7 @@ where
             yaw: R::State::from_parameters(find(MODEL_NAMES[2])?)?,
             roll: P::State::from_parameters(find(MODEL_NAMES[3])?)?,
         };
-        self.import(&snapshot).map_err(|e| e.to_string())
+        self.import(&snapshot).map_err(ParametersError::Rejected)
     }
 }
 
@@ -478,5 +492,32 @@ mod tests {
         assert!(Identifier::parameters(&plain)
             .iter()
             .all(|p| p.premise.is_none()));
+    }
+
+    #[test]
+    fn parameters_that_do_not_fit_are_typed_errors_and_load_nothing() {
+        let mut id =
+            FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
+        let before = Identifier::parameters(&id);
+        assert_eq!(
+            id.load(&[]),
+            Err(ParametersError::MissingModel(MODEL_NAMES[0]))
+        );
+        let plain = FlightPlainIdentifier::<f32>::flight_plain(HoverConfig::default()).unwrap();
+        assert!(matches!(
+            id.load(&Identifier::parameters(&plain)),
+            Err(ParametersError::RuleLayout { rules: 3, .. } | ParametersError::ThetaLength { .. })
+        ));
+        // The velocity model would fit; the q model's algorithm does not: nothing is loaded.
+        let mut odd = before.clone();
+        odd[1].algorithm = "kalman".to_string();
+        assert!(matches!(
+            id.load(&odd),
+            Err(ParametersError::UnknownAlgorithm { ref algorithm, .. }) if algorithm == "kalman"
+        ));
+        let mut bad = before.clone();
+        bad[0].theta[0] = f32::NAN;
+        assert!(matches!(id.load(&bad), Err(ParametersError::Rejected(_))));
+        assert_eq!(Identifier::parameters(&id), before);
     }
 }

@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 use rotorid::hover::{HoverSample, HoverState};
 
@@ -29,12 +30,34 @@ struct Panel {
     series: Vec<Series>,
 }
 
-fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), String> {
-    let e = |x: &dyn std::fmt::Display| format!("{}: {x}", path.display());
+/// What plotters reports when drawing on a PNG fails.
+pub type DrawError =
+    DrawingAreaErrorKind<<BitMapBackend<'static> as plotters::backend::DrawingBackend>::ErrorType>;
+
+/// Why a figure could not be drawn or written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FigureError {
+    /// Plotters failed on the figure (drawing, or writing the PNG).
+    #[error("{}: cannot draw the figure", path.display())]
+    Draw {
+        /// The figure's file.
+        path: PathBuf,
+        /// Plotters' reason.
+        #[source]
+        source: DrawError,
+    },
+}
+
+fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), FigureError> {
+    let e = |source| FigureError::Draw {
+        path: path.to_path_buf(),
+        source,
+    };
     let height = 260 * u32::try_from(panels.len()).unwrap_or(1) + 40;
     let root = BitMapBackend::new(path, (1400, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
-    let root = root.titled(title, ("sans-serif", 22)).map_err(|x| e(&x))?;
+    root.fill(&WHITE).map_err(e)?;
+    let root = root.titled(title, ("sans-serif", 22)).map_err(e)?;
     let areas = root.split_evenly((panels.len(), 1));
     for (area, panel) in areas.iter().zip(panels) {
         let pts = panel
@@ -72,14 +95,14 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), String>
             .x_label_area_size(30)
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1.max(x0 + 1e-6), (y0 - pad)..(y1 + pad))
-            .map_err(|x| e(&x))?;
+            .map_err(e)?;
         chart
             .configure_mesh()
             .x_desc("time (s)")
             .y_desc(panel.ylabel.as_str())
             .light_line_style(WHITE.mix(0.0))
             .draw()
-            .map_err(|x| e(&x))?;
+            .map_err(e)?;
         for s in &panel.series {
             let color = COLORS[s.color % COLORS.len()];
             let mut first = true;
@@ -89,7 +112,7 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), String>
                 }
                 let line =
                     LineSeries::new(segment.iter().flatten().copied(), color.stroke_width(1));
-                let drawn = chart.draw_series(line).map_err(|x| e(&x))?;
+                let drawn = chart.draw_series(line).map_err(e)?;
                 if first {
                     drawn
                         .label(s.name.as_str())
@@ -104,9 +127,9 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), String>
             .border_style(BLACK)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
-            .map_err(|x| e(&x))?;
+            .map_err(e)?;
     }
-    root.present().map_err(|x| e(&x))?;
+    root.present().map_err(e)?;
     Ok(())
 }
 
@@ -177,7 +200,7 @@ pub fn write_figures(
     samples: &[HoverSample<f32>],
     variants: &[VariantResult],
     span_s: Option<f64>,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, FigureError> {
     let n = match span_s {
         Some(s) => samples
             .iter()

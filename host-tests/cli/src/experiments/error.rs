@@ -1,0 +1,87 @@
+//! What can fail when an identifier variant is built, warm started and evaluated.
+
+/// Why parameters (a `params-<variant>.json`) do not fit an identifier; nothing was loaded.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParametersError {
+    /// The file has no entry for one of the identifier's models.
+    #[error("no parameters for model `{0}`")]
+    MissingModel(&'static str),
+    /// `algorithm` is neither `covariance` nor `ud`.
+    #[error("model {model}: unknown algorithm `{algorithm}`")]
+    UnknownAlgorithm {
+        /// The model's name.
+        model: String,
+        /// The algorithm named in the file.
+        algorithm: String,
+    },
+    /// θ has another length than this identifier's model.
+    #[error("model {model}: {found} parameters, this identifier has {expected}")]
+    ThetaLength {
+        /// The model's name.
+        model: String,
+        /// Entries in the file.
+        found: usize,
+        /// Entries the model has.
+        expected: usize,
+    },
+    /// The covariance (or U-D) factor has another length than this identifier's model.
+    #[error("model {model}: {found} covariance entries, this identifier has {expected}")]
+    FactorLength {
+        /// The model's name.
+        model: String,
+        /// Entries in the file.
+        found: usize,
+        /// Entries the model has.
+        expected: usize,
+    },
+    /// A locally learnt model's rules do not match the identifier's.
+    #[error(
+        "model {model}: {theta} parameters, {factor} covariance entries and {rule_counts} rule \
+         counts; this identifier has {rules} rules of {per_rule} parameters and {factor_per_rule} \
+         entries"
+    )]
+    RuleLayout {
+        /// The model's name.
+        model: String,
+        /// θ entries in the file.
+        theta: usize,
+        /// Factor entries in the file.
+        factor: usize,
+        /// Per-rule update counts in the file.
+        rule_counts: usize,
+        /// Rules of the model.
+        rules: usize,
+        /// θ_i entries per rule.
+        per_rule: usize,
+        /// Factor entries per rule.
+        factor_per_rule: usize,
+    },
+    /// The sizes fit but the core rejected the values (e.g. non-finite, not positive definite).
+    #[error("the core rejected the parameters")]
+    Rejected(#[source] rotorid::Error),
+}
+
+/// Why [`evaluate`](super::evaluate) could not evaluate a variant.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EvaluateError {
+    /// The variant's identifier could not be built (configuration or premise sets).
+    #[error("{variant}: cannot build the identifier")]
+    Build {
+        /// The variant's name.
+        variant: &'static str,
+        /// The core's reason.
+        #[source]
+        source: rotorid::Error,
+    },
+    /// The warm-start parameters do not fit the variant.
+    #[error("{variant}: warm start")]
+    WarmStart {
+        /// The variant's name.
+        variant: &'static str,
+        /// What does not fit.
+        #[source]
+        source: ParametersError,
+    },
+}
