@@ -35,15 +35,32 @@ pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(10);
 /// Time QEMU gets to start listening on its serial port.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(20);
 
+/// Why the firmware could not be built. Shared ([`Arc`]) by every [`build_firmware`] call of
+/// the process: the build runs once.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum BuildError {
+    /// `cargo` could not be run.
+    #[error("building firmware-example: cannot run cargo")]
+    Cargo(#[source] std::io::Error),
+    /// `cargo build` ran and failed.
+    #[error("building firmware-example failed:\n{log}")]
+    Failed {
+        /// cargo's error output.
+        log: String,
+    },
+}
+
 /// Errors of the firmware link. Variants that involve QEMU carry its decoded log.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LinkError {
-    /// `cargo build` of the firmware failed.
-    #[error("building firmware-example failed:\n{0}")]
-    Build(String),
-    /// QEMU could not be started.
-    #[error("cannot start qemu-system-arm (is it installed?): {0}")]
-    Spawn(std::io::Error),
+    /// The firmware could not be built.
+    #[error(transparent)]
+    Build(Arc<BuildError>),
+    /// QEMU could not be started (or no local port was free for its serial socket).
+    #[error("cannot start qemu-system-arm (is it installed?)")]
+    Spawn(#[source] std::io::Error),
     /// QEMU exited or never listened on its serial port.
     #[error("cannot connect to QEMU's serial port: {reason}\n--- firmware log ---\n{log}")]
     Connect {
@@ -52,11 +69,12 @@ pub enum LinkError {
         /// QEMU's output.
         log: String,
     },
-    /// Socket I/O failed.
-    #[error("serial socket: {source}\n--- firmware log ---\n{log}")]
+    /// Socket I/O failed. The I/O error is part of the message, not a `source`, so that the
+    /// firmware log stays last when the error is printed with its causes.
+    #[error("serial socket: {error}\n--- firmware log ---\n{log}")]
     Io {
         /// The I/O error.
-        source: std::io::Error,
+        error: std::io::Error,
         /// QEMU's output.
         log: String,
     },
@@ -71,7 +89,7 @@ pub enum LinkError {
         log: String,
     },
     /// A frame could not be encoded.
-    #[error("encoding a frame: {0}")]
+    #[error("encoding a frame")]
     Encode(#[from] EncodeError),
     /// The firmware answered something unexpected.
     #[error("protocol: {what}\n--- firmware log ---\n{log}")]
@@ -145,7 +163,7 @@ pub fn firmware_dir() -> PathBuf {
 /// The child cargo gets a clean environment for target selection: `CARGO_TARGET_DIR`,
 /// `RUSTFLAGS` and friends of the host build would otherwise leak into the MCU build.
 pub fn build_firmware() -> Result<PathBuf, LinkError> {
-    static BUILT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    static BUILT: OnceLock<Result<PathBuf, Arc<BuildError>>> = OnceLock::new();
     BUILT
         .get_or_init(|| {
             let dir = firmware_dir();
@@ -160,9 +178,11 @@ pub fn build_firmware() -> Result<PathBuf, LinkError> {
                 .env_remove("CARGO_BUILD_RUSTFLAGS")
                 .env_remove("CARGO_MANIFEST_DIR")
                 .output()
-                .map_err(|e| format!("running cargo: {e}"))?;
+                .map_err(|e| Arc::new(BuildError::Cargo(e)))?;
             if !out.status.success() {
-                return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+                return Err(Arc::new(BuildError::Failed {
+                    log: String::from_utf8_lossy(&out.stderr).into_owned(),
+                }));
             }
             Ok(dir.join("target/thumbv7em-none-eabihf/release/firmware-example"))
         })
@@ -418,9 +438,9 @@ impl FirmwareLink {
         }
     }
 
-    fn io(&self, source: std::io::Error) -> LinkError {
+    fn io(&self, error: std::io::Error) -> LinkError {
         LinkError::Io {
-            source,
+            error,
             log: self.log(),
         }
     }

@@ -21,6 +21,7 @@ use rotorid_link::Writer;
 
 use crate::firmware_link::{BootOptions, FirmwareLink, LinkError, OwnedFrame};
 use rotorid_sim::plant::flight::{simulate, verification_excitation, FlightConfig};
+use rotorid_sim::plant::PlantError;
 
 /// Frames in flight while streaming (the firmware answers in order).
 pub const WINDOW: usize = 8;
@@ -52,6 +53,7 @@ impl fmt::Display for Mismatch {
 
 /// Errors of the onboard driver.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OnboardError {
     /// The link failed (QEMU, socket, timeout, protocol).
     #[error(transparent)]
@@ -63,8 +65,8 @@ pub enum OnboardError {
     #[error("protocol: {0}")]
     Protocol(String),
     /// The host mirror could not be built.
-    #[error("core: {0}")]
-    Core(rotorid::Error),
+    #[error("building the host mirror")]
+    Core(#[source] rotorid::Error),
 }
 
 fn config(form: RlsForm) -> HoverConfig<f32> {
@@ -553,9 +555,9 @@ pub fn messages(samples: &[HoverSample<f32>], mode: SampleMode) -> Vec<SampleMsg
 
 /// A simulated flight of `duration_s` (realistic sensors, turbulence, the verification
 /// manoeuvres: doublets and 3-2-1-1s on all channels), as core samples.
-pub fn simulated_flight(seed: u64, duration_s: f64) -> Result<Vec<HoverSample<f32>>, String> {
+pub fn simulated_flight(seed: u64, duration_s: f64) -> Result<Vec<HoverSample<f32>>, PlantError> {
     let cfg = FlightConfig::realistic(seed, duration_s);
     let mut exc = verification_excitation(seed, duration_s);
-    let log = simulate(&cfg, &mut exc).map_err(|e| format!("{e}"))?;
+    let log = simulate(&cfg, &mut exc)?;
     Ok(rotorid_sim::flights::to_hover_samples(&log))
 }

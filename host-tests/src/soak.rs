@@ -135,14 +135,32 @@ fn quiet_flight(seed: u64, seconds: f64) -> Result<Vec<HoverSample<f32>>, PlantE
     })?))
 }
 
+/// Why a soak could not run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SoakError {
+    /// The flight identifier could not be built.
+    #[error("cannot build the flight identifier")]
+    Identifier(#[source] rotorid::Error),
+    /// A flight of the soak could not be simulated.
+    #[error("flight {flight}: simulation")]
+    Flight {
+        /// The flight's number in the soak (from 0).
+        flight: u64,
+        /// The plant's reason.
+        #[source]
+        source: PlantError,
+    },
+}
+
 /// Runs the soak; `progress` gets the steps made so far after each flight.
-pub fn run(plan: SoakPlan, progress: &mut dyn FnMut(u64)) -> Result<SoakReport, String> {
+pub fn run(plan: SoakPlan, progress: &mut dyn FnMut(u64)) -> Result<SoakReport, SoakError> {
     let config = HoverConfig {
         rls: RlsConfig::default().with_forgetting(FORGETTING as f32, MAX_TRACE as f32),
         ..HoverConfig::default()
     };
     let mut id =
-        FlightIdentifier::<f32>::flight(config, flight_sets()).map_err(|e| e.to_string())?;
+        FlightIdentifier::<f32>::flight(config, flight_sets()).map_err(SoakError::Identifier)?;
     let mut r = SoakReport {
         min_diagonal: f64::INFINITY,
         ..SoakReport::default()
@@ -161,7 +179,10 @@ pub fn run(plan: SoakPlan, progress: &mut dyn FnMut(u64)) -> Result<SoakReport, 
         } else {
             excited_flight(k_flight)
         }
-        .map_err(|e| format!("flight {k_flight}: {e}"))?;
+        .map_err(|source| SoakError::Flight {
+            flight: k_flight,
+            source,
+        })?;
         k_flight += 1;
         r.flights += 1;
         let mut pending: Option<rotorid::HoverState<f32>> = None;

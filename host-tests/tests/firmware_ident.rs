@@ -12,6 +12,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rotorid::hover::HoverSample;
 use rotorid::sweep::SweepSchedule;
+use rotorid_cli::error_chain::Chain;
 use rotorid_link::msg::{
     Ident, MsgType, NackReason, Payload, RlsForm, SampleMode, SampleMsg, SweepStart,
 };
@@ -86,7 +87,7 @@ fn firmware_reproduces_golden_vectors() {
 /// Learns over a flight, dumps parameters and exports, all compared with the host.
 fn learn_flight_and_compare(ob: &mut Onboard, flight: &[HoverSample<f32>]) {
     ob.stream(&messages(flight, SampleMode::Learn), |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     for ident in [Ident::Fuzzy, Ident::Plain] {
         let fw = ob.params(ident).expect("params");
         let host = ob.mirror.params(ident);
@@ -115,7 +116,7 @@ fn sixty_seconds_of_flight_bit_for_bit() {
     // Frozen-θ prediction (the verification half of Table 4) on the same flight.
     let res = ob
         .stream(&messages(&flight[..500], SampleMode::Predict), |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     assert!(res.estimates.iter().all(|e| e.fuzzy.innovation.is_none()));
     let s = ob.link.stats().expect("stats");
     assert_eq!(s.link.rejected(), 0);
@@ -174,7 +175,7 @@ fn link_faults_during_identification_are_counted_and_survived() {
         // The good frame: the estimate is compared with the host bit for bit.
         let res = ob
             .stream(std::slice::from_ref(m), |_| {})
-            .unwrap_or_else(|e| panic!("sample {i}: {e}"));
+            .unwrap_or_else(|e| panic!("sample {i}: {}", Chain(&e)));
         assert_eq!(res.estimates.len(), 1);
         assert_eq!(res.estimates[0].fuzzy.error, None, "sample {i}");
     }
@@ -224,7 +225,7 @@ fn rejected_sample_leaves_onboard_state_unchanged() {
     bad.push(s);
     let res = ob
         .stream(&messages(&bad, SampleMode::Learn), |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     let errors: Vec<_> = res.estimates.iter().map(|e| e.fuzzy.error).collect();
     assert!(errors.iter().all(|e| e.is_some()), "{errors:?}");
     assert!(
@@ -250,7 +251,7 @@ fn rejected_sample_leaves_onboard_state_unchanged() {
     );
     // And the chain continues exactly as if nothing happened.
     ob.stream(&messages(&inp[100..], SampleMode::Learn), |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     let mut clean = Mirror::new(RlsForm::UdDefault).unwrap();
     for s in &inp {
         clean.apply(&SampleMsg {
@@ -311,7 +312,7 @@ fn warm_start_sweep_memory() {
     assert_eq!(ob.export(Ident::Fuzzy).unwrap(), fsnap);
     ob.mirror.fuzzy.import(&fresh.fuzzy.export()).unwrap();
     ob.stream(&messages(&inp[150..], SampleMode::Learn), |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
 
     // Onboard sweep generator = host schedule, bit for bit.
     let amps = [0.05f32, 0.1, 0.2, 0.2];
@@ -358,7 +359,8 @@ fn full_flights_bit_for_bit_when_long() {
     learn_flight_and_compare(&mut ob, &id);
     let mut msgs = messages(&ver, SampleMode::Predict);
     msgs[0].mode = SampleMode::Resume;
-    ob.stream(&msgs, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    ob.stream(&msgs, |_| {})
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     eprintln!(
         "full flights ({} + {} samples) bit for bit in {:?}",
         id.len(),

@@ -10,6 +10,7 @@ use host_tests::mavlink::{
     check_with_pymavlink, identification_stream, learn_with_one_rejection, python_with_pymavlink,
 };
 use host_tests::onboard::{simulated_flight, Onboard};
+use rotorid_cli::error_chain::Chain;
 use rotorid_link::msg::{Ident, RlsForm};
 
 #[test]
@@ -24,13 +25,14 @@ fn firmware_uart1_is_the_host_stream_and_pymavlink_reads_it() {
     };
     let flight = simulated_flight(5, 30.0).expect("flight");
     let samples = learn_with_one_rejection(&flight);
-    let mut ob = Onboard::boot_with(RlsForm::UdDefault, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let mut ob =
+        Onboard::boot_with(RlsForm::UdDefault, &opts).unwrap_or_else(|e| panic!("{}", Chain(&e)));
     ob.stream(&samples, |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
     for ident in [Ident::Fuzzy, Ident::Plain] {
-        ob.params(ident).unwrap_or_else(|e| panic!("{e}"));
+        ob.params(ident).unwrap_or_else(|e| panic!("{}", Chain(&e)));
     }
-    let mem = ob.memory().unwrap_or_else(|e| panic!("{e}"));
+    let mem = ob.memory().unwrap_or_else(|e| panic!("{}", Chain(&e)));
     // The θ arrays precede the Params replies on the wire, so the capture is complete.
     drop(ob);
     eprintln!(
@@ -63,6 +65,9 @@ fn firmware_uart1_is_the_host_stream_and_pymavlink_reads_it() {
     };
     match check_with_pymavlink(&py, &fw, &host.expected, &work) {
         Ok(summary) => eprintln!("firmware stream: {summary}"),
-        Err(e) => panic!("pymavlink check of the firmware stream failed:\n{e}"),
+        Err(e) => panic!(
+            "pymavlink check of the firmware stream failed:\n{}",
+            Chain(&e)
+        ),
     }
 }

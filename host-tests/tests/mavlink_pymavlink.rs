@@ -13,6 +13,7 @@ use host_tests::mavlink::{
     check_with_pymavlink, identification_stream, learn_with_one_rejection, python_with_pymavlink,
 };
 use host_tests::onboard::simulated_flight;
+use rotorid_cli::error_chain::Chain;
 
 #[test]
 fn pymavlink_decodes_an_identification_run_bit_for_bit() {
@@ -44,6 +45,6 @@ fn pymavlink_decodes_an_identification_run_bit_for_bit() {
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mavlink-pymavlink");
     match check_with_pymavlink(&py, &stream.bytes, &stream.expected, &work) {
         Ok(summary) => eprintln!("{} samples: {summary}", flight.len()),
-        Err(e) => panic!("pymavlink check failed:\n{e}"),
+        Err(e) => panic!("pymavlink check failed:\n{}", Chain(&e)),
     }
 }

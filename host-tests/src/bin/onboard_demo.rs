@@ -9,12 +9,15 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
+use host_tests::firmware_link::LinkError;
 use host_tests::onboard::{Onboard, OnboardError};
 use indicatif::{ProgressBar, ProgressStyle};
 use rotorid::HoverState;
+use rotorid_cli::error_chain::Chain;
 use rotorid_cli::experiments::format_table4;
 use rotorid_link::msg::{Estimate, Ident, RlsForm, SampleMode, SampleMsg};
 use rotorid_sim::flights::{identification_flight, to_hover_samples, verification_flight};
+use rotorid_sim::plant::PlantError;
 
 const ID_SEED: u64 = 1;
 const VER_SEED: u64 = 2;
@@ -44,12 +47,34 @@ fn state(a: &[f32; 6]) -> HoverState<f32> {
     }
 }
 
-fn run() -> Result<(), String> {
+/// Why the demo (or `--cost`) stopped; `main` prints it with its causes.
+#[derive(Debug, thiserror::Error)]
+enum DemoError {
+    #[error("simulation")]
+    Simulation(#[from] PlantError),
+    #[error("building firmware-example: cannot run cargo")]
+    Cargo(#[source] std::io::Error),
+    #[error("building firmware-example failed (see cargo's output above)")]
+    Build,
+    #[error(transparent)]
+    Onboard(#[from] OnboardError),
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    /// A streamed estimate differs from the host's (or the stream broke off).
+    #[error("bit-for-bit: FAIL")]
+    Verdict(#[source] OnboardError),
+    #[error("{0:?} parameter dump differs from the host")]
+    Params(Ident),
+    #[error("{0:?} exported state differs from the host")]
+    Export(Ident),
+}
+
+fn run() -> Result<(), DemoError> {
     let t0 = Instant::now();
     println!("rotorid onboard demo: identification on an emulated Cortex-M4F (QEMU mps2-an386)");
     println!("simulating the identification and verification flights (X-Cell 60 plant)...");
-    let id_log = identification_flight(ID_SEED).map_err(|e| format!("{e}"))?;
-    let ver_log = verification_flight(VER_SEED, VER_DURATION_S).map_err(|e| format!("{e}"))?;
+    let id_log = identification_flight(ID_SEED)?;
+    let ver_log = verification_flight(VER_SEED, VER_DURATION_S)?;
     let id = to_hover_samples(&id_log);
     let ver = to_hover_samples(&ver_log);
     println!(
@@ -74,12 +99,12 @@ fn run() -> Result<(), String> {
             .env_remove("CARGO_BUILD_TARGET")
             .env_remove("CARGO_MANIFEST_DIR")
             .status()
-            .map_err(|e| format!("running cargo: {e}"))?;
+            .map_err(DemoError::Cargo)?;
     if !built.success() {
-        return Err("building firmware-example failed (see cargo's output above)".into());
+        return Err(DemoError::Build);
     }
     println!("booting QEMU (mps2-an386) and connecting to the firmware's UART...");
-    let mut ob = Onboard::boot(RlsForm::UdDefault, false).map_err(|e| format!("{e}"))?;
+    let mut ob = Onboard::boot(RlsForm::UdDefault, false)?;
     println!("  firmware says: {}", ob.link.hello().name);
     println!(
         "  streaming {} samples to it over the serial link, one frame each way per sample",
@@ -96,7 +121,7 @@ fn run() -> Result<(), String> {
     let pb = bar(learn.len(), "identification (learning)");
     let r = ob.stream(&learn, |n| pb.set_position(n as u64));
     pb.finish();
-    let learned = r.map_err(verdict_fail)?;
+    let learned = r.map_err(DemoError::Verdict)?;
     let rejected = learned
         .estimates
         .iter()
@@ -119,21 +144,21 @@ fn run() -> Result<(), String> {
     let pb = bar(verify.len(), "verification (frozen θ)");
     let r = ob.stream(&verify, |n| pb.set_position(n as u64));
     pb.finish();
-    let verified = r.map_err(verdict_fail)?;
+    let verified = r.map_err(DemoError::Verdict)?;
 
     // Final parameters and exported state, compared with the host too.
     for ident in [Ident::Fuzzy, Ident::Plain] {
-        let fw = ob.params(ident).map_err(|e| format!("{e}"))?;
+        let fw = ob.params(ident)?;
         let host = ob.mirror.params(ident);
         if fw != host {
-            return Err(format!("{ident:?} parameter dump differs from the host"));
+            return Err(DemoError::Params(ident));
         }
-        let fw = ob.export(ident).map_err(|e| format!("{e}"))?;
+        let fw = ob.export(ident)?;
         if fw != ob.mirror.export(ident) {
-            return Err(format!("{ident:?} exported state differs from the host"));
+            return Err(DemoError::Export(ident));
         }
     }
-    let stats = ob.link.stats().map_err(|e| format!("{e}"))?;
+    let stats = ob.link.stats()?;
 
     let preds = |f: fn(&Estimate) -> &[f32; 6]| -> Vec<HoverState<f32>> {
         verified.estimates.iter().map(|e| state(f(e))).collect()
@@ -164,14 +189,10 @@ fn run() -> Result<(), String> {
     Ok(())
 }
 
-fn verdict_fail(e: OnboardError) -> String {
-    format!("bit-for-bit: FAIL — {e}")
-}
-
 /// `--cost`: the committed cost report (`scripts/cost.sh` → `docs/cost.md`), on stdout.
-fn cost() -> Result<(), String> {
+fn cost() -> Result<(), DemoError> {
     use rotorid_link::msg::Workload;
-    let id = to_hover_samples(&identification_flight(ID_SEED).map_err(|e| format!("{e}"))?);
+    let id = to_hover_samples(&identification_flight(ID_SEED)?);
     let steps = 2000usize;
     let msgs: Vec<SampleMsg> = id[..steps]
         .iter()
@@ -188,17 +209,14 @@ fn cost() -> Result<(), String> {
         ("U-D (f32 default)", RlsForm::UdDefault),
         ("paper covariance form", RlsForm::PaperCovariance),
     ] {
-        let mut ob = Onboard::boot(form, true).map_err(|e| format!("{e}"))?;
+        let mut ob = Onboard::boot(form, true)?;
         if calib.is_empty() {
             for n in [1000u32, 2000] {
-                let c = ob
-                    .link
-                    .cost(Workload::Xorshift, n)
-                    .map_err(|e| format!("{e}"))?;
+                let c = ob.link.cost(Workload::Xorshift, n)?;
                 calib.push((n, c.ticks));
             }
         }
-        let r = ob.stream(&msgs, |_| {}).map_err(|e| format!("{e}"))?;
+        let r = ob.stream(&msgs, |_| {})?;
         // Skip the first step (no update, only a prediction).
         let stat = |f: fn(&Estimate) -> u32| {
             let t: Vec<u64> = r.estimates[1..]
@@ -220,7 +238,7 @@ fn cost() -> Result<(), String> {
         }
         rows.push((format!("fuzzy, {name}"), stat(|e| e.fuzzy.ticks)));
         rows.push((format!("plain, {name}"), stat(|e| e.plain.ticks)));
-        mem = Some(ob.memory().map_err(|e| format!("{e}"))?);
+        mem = Some(ob.memory()?);
     }
     println!(
         "| identifier, RLS form | mean instructions/step | max instructions/step | ≤ 60 000 |"
@@ -267,7 +285,7 @@ fn main() -> ExitCode {
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("{e}");
+            eprintln!("{}", Chain(&e));
             ExitCode::FAILURE
         }
     }

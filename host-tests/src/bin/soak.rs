@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use host_tests::soak::{self, SoakPlan, FORGETTING, MAX_TRACE};
+use rotorid_cli::error_chain::Chain;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -27,7 +28,7 @@ fn main() {
     }) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("soak: {e}");
+            eprintln!("soak: {}", Chain(&e));
             std::process::exit(1);
         }
     };

@@ -12,13 +12,15 @@
 
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
 use host_tests::firmware_link::BootOptions;
-use host_tests::onboard::Onboard;
+use host_tests::onboard::{Onboard, OnboardError};
+use rotorid_cli::error_chain::Chain;
 use rotorid_link::msg::{RlsForm, SampleMode, SampleMsg};
 use rotorid_sim::flights::{identification_flight, to_hover_samples};
+use rotorid_sim::plant::PlantError;
 
 /// Seed of the identification flight (the one `docs/cost.md` measures).
 const ID_SEED: u64 = 1;
@@ -33,10 +35,37 @@ struct Trace {
     elf: std::path::PathBuf,
 }
 
+/// Why the profile could not be made; `main` prints it with its causes.
+#[derive(Debug, thiserror::Error)]
+enum ProfileError {
+    #[error("simulation")]
+    Simulation(#[from] PlantError),
+    #[error(transparent)]
+    Onboard(#[from] OnboardError),
+    #[error("{}: cannot create the trace directory", path.display())]
+    TraceDir {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: cannot read QEMU's trace", path.display())]
+    Trace {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot run {tool}")]
+    Tool {
+        tool: &'static str,
+        source: std::io::Error,
+    },
+}
+
 /// Traces a run of `n` samples.
-fn trace(form: RlsForm, n: usize) -> Result<Trace, String> {
+fn trace(form: RlsForm, n: usize) -> Result<Trace, ProfileError> {
     let dir = std::env::temp_dir().join(format!("rotorid-profile-{}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&dir).map_err(|source| ProfileError::TraceDir {
+        path: dir.clone(),
+        source,
+    })?;
     let log = dir.join("exec.log");
     let opts = BootOptions {
         icount: true,
@@ -48,7 +77,7 @@ fn trace(form: RlsForm, n: usize) -> Result<Trace, String> {
             log.display().to_string(),
         ],
     };
-    let flight = identification_flight(ID_SEED).map_err(|e| e.to_string())?;
+    let flight = identification_flight(ID_SEED)?;
     let msgs: Vec<SampleMsg> = to_hover_samples(&flight)[..n]
         .iter()
         .map(|&sample| SampleMsg {
@@ -57,20 +86,24 @@ fn trace(form: RlsForm, n: usize) -> Result<Trace, String> {
         })
         .collect();
     let elf = {
-        let mut ob = Onboard::boot_with(form, &opts).map_err(|e| e.to_string())?;
-        ob.stream(&msgs, |_| {}).map_err(|e| e.to_string())?;
+        let mut ob = Onboard::boot_with(form, &opts)?;
+        ob.stream(&msgs, |_| {})?;
         // Dropping the link kills QEMU; at most its last log buffer (a few dozen of
         // millions of lines) is lost.
         ob.link.elf().to_path_buf()
     };
     let funcs = functions(&elf)?;
     let starts: std::collections::HashSet<u32> = funcs.iter().map(|f| f.0).collect();
-    let file = std::fs::File::open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
+    let read_error = |source| ProfileError::Trace {
+        path: log.clone(),
+        source,
+    };
+    let file = std::fs::File::open(&log).map_err(read_error)?;
     let mut counts = HashMap::new();
     let mut calls = HashMap::new();
     let mut prev = 0u32;
     for line in BufReader::with_capacity(1 << 20, file).lines() {
-        let line = line.map_err(|e| e.to_string())?;
+        let line = line.map_err(read_error)?;
         // "Trace 0: 0x… [cs_base/pc/flags/cflags] symbol"
         let Some(pc) = line
             .split_once('[')
@@ -90,12 +123,15 @@ fn trace(form: RlsForm, n: usize) -> Result<Trace, String> {
 }
 
 /// Function symbols of the ELF: (start, end, demangled name), sorted.
-fn functions(elf: &Path) -> Result<Vec<(u32, u32, String)>, String> {
+fn functions(elf: &Path) -> Result<Vec<(u32, u32, String)>, ProfileError> {
     let out = Command::new("arm-none-eabi-nm")
         .args(["-C", "-S", "--defined-only"])
         .arg(elf)
         .output()
-        .map_err(|e| format!("arm-none-eabi-nm: {e}"))?;
+        .map_err(|source| ProfileError::Tool {
+            tool: "arm-none-eabi-nm",
+            source,
+        })?;
     let mut f = Vec::new();
     for line in String::from_utf8_lossy(&out.stdout).lines() {
         let mut it = line.splitn(4, ' ');
@@ -119,19 +155,25 @@ fn functions(elf: &Path) -> Result<Vec<(u32, u32, String)>, String> {
 
 /// Source location of each address (`crate/file:line`): the innermost inlined frame outside
 /// the Rust standard library (iterator adapters and the like say little), via addr2line.
-fn lines(elf: &Path, pcs: &[u32]) -> Result<HashMap<u32, String>, String> {
-    let mut child = Command::new("arm-none-eabi-addr2line")
+fn lines(elf: &Path, pcs: &[u32]) -> Result<HashMap<u32, String>, ProfileError> {
+    let tool = "arm-none-eabi-addr2line";
+    let mut child = Command::new(tool)
         .arg("-e")
         .arg(elf)
         .args(["-a", "-i"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .spawn()
-        .map_err(|e| format!("arm-none-eabi-addr2line: {e}"))?;
-    let mut stdin = child.stdin.take().ok_or("no stdin")?;
+        .map_err(|source| ProfileError::Tool { tool, source })?;
+    let mut stdin = child.stdin.take().ok_or_else(|| ProfileError::Tool {
+        tool,
+        source: std::io::Error::new(std::io::ErrorKind::BrokenPipe, "no stdin pipe"),
+    })?;
     let input: String = pcs.iter().map(|pc| format!("{pc:#x}\n")).collect();
     let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
-    let out = child.wait_with_output().map_err(|e| e.to_string())?;
+    let out = child
+        .wait_with_output()
+        .map_err(|source| ProfileError::Tool { tool, source })?;
     let _ = writer.join();
     let text = String::from_utf8_lossy(&out.stdout);
     let mut map: HashMap<u32, String> = HashMap::new();
@@ -173,7 +215,7 @@ fn short(loc: &str) -> String {
     }
 }
 
-fn run() -> Result<(), String> {
+fn run() -> Result<(), ProfileError> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let form = if args.iter().any(|a| a == "--covariance") {
         RlsForm::PaperCovariance
@@ -250,7 +292,7 @@ fn main() -> ExitCode {
     match run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("step_profile: {e}");
+            eprintln!("step_profile: {}", Chain(&e));
             ExitCode::FAILURE
         }
     }
