@@ -17,6 +17,7 @@
 use std::fmt;
 use std::io::{Read, Write};
 use std::path::Path;
+use std::sync::Arc;
 
 use rotorid_sim::plant::{SensorSample, Sticks};
 
@@ -53,11 +54,18 @@ const MAX_ANGLE_RAD: [f64; 3] = [3.2, 1.6, 6.3];
 const MAX_VELOCITY_MPS: f64 = 100.0;
 
 /// What is wrong at a [`LogError`]'s position.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
+#[non_exhaustive]
 pub enum LogErrorKind {
-    /// The file could not be read or written.
-    #[error("{0}")]
-    Io(String),
+    /// The file could not be opened.
+    #[error("cannot open")]
+    Open(#[source] Arc<std::io::Error>),
+    /// The file could not be created.
+    #[error("cannot create")]
+    Create(#[source] Arc<std::io::Error>),
+    /// Writing the samples failed.
+    #[error("cannot write")]
+    Write(#[source] Arc<csv::Error>),
     /// The file is empty (no header).
     #[error("empty file: expected a header line with the columns {}", COLUMNS.join(","))]
     Empty,
@@ -146,15 +154,14 @@ pub enum LogErrorKind {
         /// [`MAX_INTERVAL_S`].
         max: f64,
     },
-    /// Any other CSV problem.
-    #[error("{0}")]
-    Csv(String),
+    /// Any other CSV problem (the reader's, e.g. a line that is not UTF-8).
+    #[error("unreadable CSV")]
+    Csv(#[source] Arc<csv::Error>),
 }
 
 /// A problem with a log, with its position: file, line (1-based, counting the header and
 /// comments) and column (1-based, with its name).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}{}: {kind}", Position(*line, column))]
+#[derive(Debug, Clone)]
 pub struct LogError {
     /// The file (as given).
     pub file: String,
@@ -164,6 +171,20 @@ pub struct LogError {
     pub column: Option<(usize, String)>,
     /// What is wrong.
     pub kind: LogErrorKind,
+}
+
+impl fmt::Display for LogError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let at = Position(self.line, &self.column);
+        write!(f, "{}{at}: {}", self.file, self.kind)
+    }
+}
+
+/// The kind is part of the message; its cause (an I/O or CSV error) is the source.
+impl std::error::Error for LogError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.kind.source()
+    }
 }
 
 struct Position<'a>(Option<u64>, &'a Option<(usize, String)>);
@@ -213,14 +234,8 @@ fn wrong_unit(header: &str) -> Option<&'static str> {
 /// Reads and checks a log file.
 pub fn read_log(path: &Path) -> Result<Vec<SensorSample>, LogError> {
     let name = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| {
-        err(
-            &name,
-            None,
-            None,
-            LogErrorKind::Io(format!("cannot open: {e}")),
-        )
-    })?;
+    let file = std::fs::File::open(path)
+        .map_err(|e| err(&name, None, None, LogErrorKind::Open(Arc::new(e))))?;
     parse_log(&name, file)
 }
 
@@ -235,7 +250,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
     let mut records = rdr.records();
     let csv_err = |e: csv::Error| {
         let line = e.position().map(csv::Position::line);
-        err(file, line, None, LogErrorKind::Csv(e.to_string()))
+        err(file, line, None, LogErrorKind::Csv(Arc::new(e)))
     };
     let header = match records.next() {
         None => return Err(err(file, None, None, LogErrorKind::Empty)),
@@ -541,9 +556,11 @@ pub fn write_log_to(writer: impl Write, samples: &[SensorSample]) -> Result<(), 
 /// Writes a log file.
 pub fn write_log(path: &Path, samples: &[SensorSample]) -> Result<(), LogError> {
     let name = path.display().to_string();
-    let io = |e: String| err(&name, None, None, LogErrorKind::Io(e));
-    let file = std::fs::File::create(path).map_err(|e| io(format!("cannot create: {e}")))?;
-    write_log_to(std::io::BufWriter::new(file), samples).map_err(|e| io(e.to_string()))
+    let at_file = |kind| err(&name, None, None, kind);
+    let file =
+        std::fs::File::create(path).map_err(|e| at_file(LogErrorKind::Create(Arc::new(e))))?;
+    write_log_to(std::io::BufWriter::new(file), samples)
+        .map_err(|e| at_file(LogErrorKind::Write(Arc::new(e))))
 }
 
 #[cfg(test)]

@@ -308,7 +308,9 @@ fn malformed_logs_give_positioned_errors() {
         .args(["identify", "--verify", "x.csv", "--train"])
         .arg(dir.join("nonexistent.csv")));
     assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o.stderr).contains("nonexistent.csv"));
+    // The file, what failed, then the system's reason (the error's source, printed by main).
+    let e = text(&o.stderr);
+    assert!(e.contains("nonexistent.csv: cannot read: "), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -12,6 +12,7 @@ pub mod synth;
 pub mod ulog;
 
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::log::{self, LogErrorKind};
 pub use resample::{Channels, Segment, Series};
@@ -29,26 +30,34 @@ pub enum LogFormat {
 }
 
 /// Why a log could not be imported; every variant names the file.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 #[non_exhaustive]
 pub enum ImportError {
     /// The file could not be read.
-    #[error("{file}: cannot read: {reason}")]
-    Io {
+    #[error("{file}: cannot read")]
+    Read {
         /// The file.
         file: String,
         /// The system's reason.
-        reason: String,
+        source: Arc<std::io::Error>,
+    },
+    /// The ULog parser needs a UTF-8 path.
+    #[error("{file}: the path is not UTF-8 (the {format} parser needs one)")]
+    PathNotUtf8 {
+        /// The file.
+        file: String,
+        /// "ULog".
+        format: &'static str,
     },
     /// The parser gave up on the file.
-    #[error("{file}: malformed {format} log: {reason}")]
+    #[error("{file}: malformed {format} log")]
     Malformed {
         /// The file.
         file: String,
         /// "ULog" or "DataFlash".
         format: &'static str,
         /// The parser's reason.
-        reason: String,
+        source: Arc<std::io::Error>,
     },
     /// A quantity's topic or message is absent (or has no finite sample).
     #[error("{file}: no {quantity}: {format} log has none of {tried}")]
@@ -135,9 +144,9 @@ pub fn detect(head: &[u8]) -> LogFormat {
 /// Reads a log of any supported format.
 pub fn import(path: &Path) -> Result<Imported, ImportError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| ImportError::Io {
+    let bytes = std::fs::read(path).map_err(|e| ImportError::Read {
         file: file.clone(),
-        reason: e.to_string(),
+        source: Arc::new(e),
     })?;
     let format = detect(&bytes);
     let (channels, mut notes) = match format {

@@ -14,6 +14,7 @@
 
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 use px4_ulog::full_parser::{read_file, Completeness, SomeVec};
 
@@ -92,15 +93,15 @@ pub fn quaternion_to_euler([w, x, y, z]: [f64; 4]) -> [f64; 3] {
 
 /// Reads the channels of a ULog file; `file` names it in errors and notes.
 pub fn channels(file: &str, path: &Path) -> Result<(Channels, Vec<String>), ImportError> {
-    let malformed = |reason: String| ImportError::Malformed {
+    let path_str = path.to_str().ok_or_else(|| ImportError::PathNotUtf8 {
         file: file.to_string(),
         format: FORMAT,
-        reason,
-    };
-    let path_str = path
-        .to_str()
-        .ok_or_else(|| malformed("the path is not UTF-8".into()))?;
-    let data = read_file(path_str).map_err(|e| malformed(e.to_string()))?;
+    })?;
+    let data = read_file(path_str).map_err(|e| ImportError::Malformed {
+        file: file.to_string(),
+        format: FORMAT,
+        source: Arc::new(e),
+    })?;
     let mut notes = Vec::new();
     match &data.completeness {
         Completeness::Complete => {}
