@@ -108,6 +108,7 @@ impl Channel {
 
 /// Errors of the plant simulator.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PlantError {
     /// The trim Newton iteration did not converge.
     #[error("hover trim did not converge (largest residual {residual:e})")]
