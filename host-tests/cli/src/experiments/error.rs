@@ -15,21 +15,13 @@ pub enum ParametersError {
         /// The algorithm named in the file.
         algorithm: String,
     },
-    /// θ has another length than this identifier's model.
-    #[error("model {model}: {found} parameters, this identifier has {expected}")]
-    ThetaLength {
+    /// θ or the covariance (U-D) factor has another length than this identifier's model.
+    #[error("model {model}: {found} {what}, this identifier has {expected}")]
+    Length {
         /// The model's name.
         model: String,
-        /// Entries in the file.
-        found: usize,
-        /// Entries the model has.
-        expected: usize,
-    },
-    /// The covariance (or U-D) factor has another length than this identifier's model.
-    #[error("model {model}: {found} covariance entries, this identifier has {expected}")]
-    FactorLength {
-        /// The model's name.
-        model: String,
+        /// "parameters" (θ) or "covariance entries" (the factor).
+        what: &'static str,
         /// Entries in the file.
         found: usize,
         /// Entries the model has.

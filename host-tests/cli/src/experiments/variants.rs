@@ -158,31 +158,27 @@ impl<const N: usize, const NP: usize> ModelStateIo for RlsState<f32, N, NP> {
                 })
             }
         };
-        let theta: [f32; N] =
-            p.theta
-                .as_slice()
-                .try_into()
-                .map_err(|_| ParametersError::ThetaLength {
-                    model: p.model.clone(),
-                    found: p.theta.len(),
-                    expected: N,
-                })?;
-        let factor: [f32; NP] =
-            p.factor
-                .as_slice()
-                .try_into()
-                .map_err(|_| ParametersError::FactorLength {
-                    model: p.model.clone(),
-                    found: p.factor.len(),
-                    expected: NP,
-                })?;
         Ok(Self {
             algorithm,
-            theta,
-            factor,
+            theta: sized(p, &p.theta, "parameters")?,
+            factor: sized(p, &p.factor, "covariance entries")?,
             updates: p.updates,
         })
     }
+}
+
+/// `values` as an array of this model's size `M`; `what` they are, for the error.
+fn sized<const M: usize>(
+    p: &ModelParameters,
+    values: &[f32],
+    what: &'static str,
+) -> Result<[f32; M], ParametersError> {
+    values.try_into().map_err(|_| ParametersError::Length {
+        model: p.model.clone(),
+        what,
+        found: values.len(),
+        expected: M,
+    })
 }
 
 /// A locally learnt model: every rule's θ_i and factor one after another (rule-major), and
@@ -506,7 +502,7 @@ mod tests {
         let plain = FlightPlainIdentifier::<f32>::flight_plain(HoverConfig::default()).unwrap();
         assert!(matches!(
             id.load(&Identifier::parameters(&plain)),
-            Err(ParametersError::RuleLayout { rules: 3, .. } | ParametersError::ThetaLength { .. })
+            Err(ParametersError::RuleLayout { rules: 3, .. } | ParametersError::Length { .. })
         ));
         // The velocity model would fit; the q model's algorithm does not: nothing is loaded.
         let mut odd = before.clone();
