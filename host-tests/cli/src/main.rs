@@ -1,4 +1,4 @@
-//! `rotorid`: simulate X-Cell 60 flights into the flight-log format, and identify hover
+//! `rotorid`: simulate X-Cell 60 (or `--plant flybarless600`) flights into the flight-log format, and identify hover
 //! models from flight logs (the paper's Table 4 and Figures 2–5 for your own data).
 //!
 //! ```text
@@ -22,7 +22,7 @@ use rotorid_cli::log;
 use rotorid_cli::report::{self, Metrics, Table4};
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
-use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig};
+use rotorid_sim::plant::{Airframe, FlightConfig};
 
 #[derive(Parser)]
 #[command(
@@ -48,9 +48,30 @@ enum Kind {
     EnvelopeVerification,
 }
 
+/// Which simulated helicopter (`rotorid_sim::plant::Airframe`).
+#[derive(Clone, Copy, Default, ValueEnum)]
+enum Plant {
+    /// The MIT X-Cell 60 (published parameters).
+    #[default]
+    Xcell60,
+    /// A flybarless 600-class helicopter (Froude-scaled X-Cell with a flybarless stiff-hub
+    /// rotor, higher head speed, larger tail rotor, slimmer canopy).
+    Flybarless600,
+}
+
+impl From<Plant> for Airframe {
+    fn from(p: Plant) -> Self {
+        match p {
+            Plant::Xcell60 => Airframe::XCell60,
+            Plant::Flybarless600 => Airframe::Flybarless600,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
-    /// Fly the X-Cell 60 simulator and write the flight log (CSV, docs/log-format.md).
+    /// Fly the helicopter simulator (X-Cell 60 by default) and write the flight log (CSV,
+    /// docs/log-format.md).
     Simulate {
         /// Flight kind.
         #[arg(long, value_enum)]
@@ -65,6 +86,9 @@ enum Command {
         /// No measurement noise and no turbulence (jitter stays).
         #[arg(long)]
         clean: bool,
+        /// Simulated helicopter; the pilot and the inputs are scaled to it.
+        #[arg(long, value_enum, default_value_t = Plant::Xcell60)]
+        plant: Plant,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -135,8 +159,9 @@ fn main() -> ExitCode {
             seed,
             duration,
             clean,
+            plant,
             output,
-        } => run_simulate(kind, seed, duration, clean, &output),
+        } => run_simulate(kind, seed, duration, clean, plant.into(), &output),
         Command::Identify {
             train,
             verify,
@@ -177,6 +202,7 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     clean: bool,
+    airframe: Airframe,
     output: &Path,
 ) -> Result<(), String> {
     if let Some(d) = duration {
@@ -192,27 +218,23 @@ fn run_simulate(
             ));
         }
     }
-    let samples = match (kind, clean) {
-        (Kind::Identification, false) => {
-            flights::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
+    let sensors = if clean {
+        FlightConfig::default()
+    } else {
+        FlightConfig::realistic(seed, 0.0)
+    };
+    let config = FlightConfig { seed, ..sensors }
+        .for_airframe(airframe)
+        .map_err(|e| format!("plant {}: {e}", airframe.name()))?;
+    let samples = match kind {
+        Kind::Identification => {
+            flights::identification_flight_with(&config, duration.unwrap_or(f64::INFINITY))
         }
-        (Kind::Identification, true) => flights::identification_flight_with(
-            &clean_config(seed),
-            duration.unwrap_or(f64::INFINITY),
-        ),
-        (Kind::Verification, clean) => {
-            let d = duration.unwrap_or(120.0);
-            let config = if clean {
-                FlightConfig {
-                    duration: d,
-                    ..clean_config(seed)
-                }
-            } else {
-                FlightConfig::realistic(seed, d)
-            };
-            simulate(&config, &mut verification_excitation(seed, d))
-        }
-        (Kind::Envelope | Kind::EnvelopeVerification, clean) => {
+        Kind::Verification => flights::verification_flight_with(&FlightConfig {
+            duration: duration.unwrap_or(120.0),
+            ..config
+        }),
+        Kind::Envelope | Kind::EnvelopeVerification => {
             let kind = match kind {
                 Kind::Envelope => EnvelopeKind::Identification,
                 _ => EnvelopeKind::Verification,
@@ -220,11 +242,6 @@ fn run_simulate(
             if duration.is_some() {
                 return Err("--duration does not apply to envelope flights (their length is their schedule's)".into());
             }
-            let config = if clean {
-                clean_config(seed)
-            } else {
-                FlightConfig::realistic(seed, 0.0)
-            };
             envelope::envelope_flight_with(&config, kind)
         }
     }
@@ -237,13 +254,6 @@ fn run_simulate(
         output.display()
     );
     Ok(())
-}
-
-fn clean_config(seed: u64) -> FlightConfig {
-    FlightConfig {
-        seed,
-        ..FlightConfig::default()
-    }
 }
 
 /// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:

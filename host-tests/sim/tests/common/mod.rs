@@ -1,0 +1,53 @@
+//! Helpers shared by the plant test files.
+#![allow(dead_code)]
+
+use nalgebra::Vector3;
+use rotorid_sim::plant::{derivative, trim_hover, Helicopter, SensorSample, State};
+
+/// Largest |f| over a flight.
+pub fn max_abs(s: &[SensorSample], f: impl Fn(&SensorSample) -> f64) -> f64 {
+    s.iter().map(|x| f(x).abs()).fold(0.0, f64::max)
+}
+
+/// `|x − reference| / |reference|`.
+pub fn rel_err(x: f64, reference: f64) -> f64 {
+    (x - reference).abs() / reference.abs()
+}
+
+/// `∂(ω̇_i)/∂x` of `p` by central differences at `state` (hover trim sticks, still air), where
+/// `perturb` moves one state component by `h`.
+pub fn derivative_of_rate(
+    p: &Helicopter,
+    state: &State,
+    axis: usize,
+    h: f64,
+    perturb: impl Fn(&mut State, f64),
+) -> f64 {
+    let t = trim_hover(p, 0.0).expect("trim converges");
+    let pitch = p.blade_pitch(&t.sticks);
+    let eval = |d: f64| {
+        let mut s = *state;
+        perturb(&mut s, d);
+        derivative(p, &s, &pitch, &Vector3::zeros()).0.omega[axis]
+    };
+    (eval(h) - eval(-h)) / (2.0 * h)
+}
+
+/// Yaw damping `N_r`, weathercock `N_v`, pitch damping `M_q` and roll damping `L_p` (flapping
+/// held) of `p` at hover and at 10 m/s forward: `[(name, at hover, at 10 m/s)]`.
+pub fn local_derivatives_hover_and_10_mps(p: &Helicopter) -> [(&'static str, f64, f64); 4] {
+    let hover = trim_hover(p, 0.0).expect("trim converges").state;
+    let mut fast = hover;
+    fast.vel_body.x = 10.0;
+    let (pa, qa, ra) = (0, 1, 2);
+    let damping =
+        |s: &State, axis: usize| derivative_of_rate(p, s, axis, 1e-3, |s, d| s.omega[axis] += d);
+    let side =
+        |s: &State, axis: usize| derivative_of_rate(p, s, axis, 1e-3, |s, d| s.vel_body.y += d);
+    [
+        ("N_r", damping(&hover, ra), damping(&fast, ra)),
+        ("N_v", side(&hover, ra), side(&fast, ra)),
+        ("M_q", damping(&hover, qa), damping(&fast, qa)),
+        ("L_p", damping(&hover, pa), damping(&fast, pa)),
+    ]
+}
