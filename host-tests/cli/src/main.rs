@@ -20,6 +20,7 @@ use rotorid_cli::experiments::{self, ModelParameters, TABLE4_VARIANTS};
 use rotorid_cli::import;
 use rotorid_cli::log;
 use rotorid_cli::report::{self, Metrics, Table4};
+use rotorid_cli::results::SecondPlant;
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
 use rotorid_sim::plant::{Airframe, FlightConfig};
@@ -142,6 +143,16 @@ enum Command {
         /// metrics.json of the envelope run (its directory also holds params-flight.json).
         #[arg(long)]
         envelope: Option<PathBuf>,
+        /// The second plant whose runs `--second-hover` and `--second-envelope` are.
+        #[arg(long, value_enum, default_value_t = Plant::Flybarless600)]
+        second_plant: Plant,
+        /// metrics.json of the second plant's hover run.
+        #[arg(long, requires = "second_envelope")]
+        second_hover: Option<PathBuf>,
+        /// metrics.json of the second plant's envelope run (its directory also holds
+        /// params-flight.json).
+        #[arg(long, requires = "second_hover")]
+        second_envelope: Option<PathBuf>,
         /// Seconds the results script took to simulate and identify (for the doc).
         #[arg(long)]
         elapsed: Option<f64>,
@@ -184,9 +195,24 @@ fn main() -> ExitCode {
             realistic,
             clean,
             envelope,
+            second_plant,
+            second_hover,
+            second_envelope,
             elapsed,
             output,
-        } => run_report(&realistic, &clean, envelope.as_deref(), elapsed, &output),
+        } => {
+            let second = second_hover
+                .zip(second_envelope)
+                .map(|(h, e)| (second_plant.into(), h, e));
+            run_report(
+                &realistic,
+                &clean,
+                envelope.as_deref(),
+                second,
+                elapsed,
+                &output,
+            )
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -416,6 +442,7 @@ fn run_report(
     realistic: &Path,
     clean: &Path,
     envelope: Option<&Path>,
+    second: Option<(Airframe, PathBuf, PathBuf)>,
     elapsed: Option<f64>,
     output: &Path,
 ) -> Result<(), String> {
@@ -427,10 +454,26 @@ fn run_report(
         Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
         None => None,
     };
+    let second = match second {
+        Some((airframe, hover, envelope)) => {
+            let dir = envelope.parent().unwrap_or(Path::new(".")).to_path_buf();
+            Some((airframe, load(&hover)?, load(&envelope)?, dir))
+        }
+        None => None,
+    };
+    let second = second
+        .as_ref()
+        .map(|(airframe, hover, envelope, dir)| SecondPlant {
+            airframe: *airframe,
+            hover,
+            envelope,
+            envelope_dir: dir,
+        });
     let md = rotorid_cli::results::results_markdown(
         &load(realistic)?,
         &load(clean)?,
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),
+        second.as_ref(),
         elapsed,
     )?;
     std::fs::write(output, md).map_err(|e| format!("{}: {e}", output.display()))

@@ -104,36 +104,10 @@ fn differs_from_the_x_cell_as_stated() {
 #[test]
 fn opposite_doublets_give_opposite_rates() {
     let scale = Airframe::Flybarless600.stick_scale().expect("trims");
-    for (ch, rate) in [
-        (
-            Channel::Lon,
-            (|s: &SensorSample| s.q) as fn(&SensorSample) -> f64,
-        ),
-        (Channel::Lat, |s: &SensorSample| s.p),
-    ] {
-        let fly = |a: f64| {
-            let cfg = FlightConfig::ideal(1.0)
-                .for_airframe(Airframe::Flybarless600)
-                .expect("trims");
-            simulate(&cfg, &mut |_, t| {
-                Excitation::on(ch, if t < 0.5 { a } else { -a })
-            })
-            .expect("bounded")
-        };
-        let a = 0.2 * scale.get(ch);
-        let (plus, minus) = (fly(a), fly(-a));
-        let early: Vec<(f64, f64)> = plus
-            .iter()
-            .zip(&minus)
-            .filter(|(s, _)| s.t <= 0.2 + 1e-9)
-            .map(|(a, b)| (rate(a), rate(b)))
-            .collect();
-        let peak = early.iter().map(|(a, _)| a.abs()).fold(0.0, f64::max);
-        assert!(peak > 0.1, "{ch:?} peak {peak}");
-        for (a, b) in &early {
-            assert!((a + b).abs() <= 0.03 * peak, "{ch:?}: {a} vs {b}");
-        }
-    }
+    let cfg = FlightConfig::ideal(1.0)
+        .for_airframe(Airframe::Flybarless600)
+        .expect("trims");
+    common::assert_opposite_doublets_give_opposite_rates(&cfg, 0.2 * scale.lon, 0.2 * scale.lat);
 }
 
 /// The scaled pilot holds hover for 20 s in turbulence as it does the X-Cell.

@@ -149,34 +149,7 @@ fn control_signs() {
 /// stay around 1 % of the rate; 3 % of the peak is the bound.
 #[test]
 fn opposite_doublets_give_opposite_rates() {
-    for (ch, rate) in [
-        (
-            Channel::Lon,
-            (|s: &SensorSample| s.q) as fn(&SensorSample) -> f64,
-        ),
-        (Channel::Lat, |s: &SensorSample| s.p),
-    ] {
-        let fly = |a: f64| {
-            simulate(&FlightConfig::ideal(1.0), &mut |_, t| {
-                Excitation::on(ch, if t < 0.5 { a } else { -a })
-            })
-            .expect("bounded")
-        };
-        let plus = fly(0.2);
-        let minus = fly(-0.2);
-        let early: Vec<(f64, f64)> = plus
-            .iter()
-            .zip(&minus)
-            .filter(|(s, _)| s.t <= 0.2 + 1e-9)
-            .map(|(a, b)| (rate(a), rate(b)))
-            .collect();
-        assert_eq!(early.len(), 11);
-        let peak = early.iter().map(|(a, _)| a.abs()).fold(0.0, f64::max);
-        assert!(peak > 0.1, "{ch:?} peak {peak}");
-        for (a, b) in &early {
-            assert!((a + b).abs() <= 0.03 * peak, "{ch:?}: {a} vs {b}");
-        }
-    }
+    common::assert_opposite_doublets_give_opposite_rates(&FlightConfig::ideal(1.0), 0.2, 0.2);
 }
 
 fn realistic_flight(seed: u64, seconds: f64) -> Vec<SensorSample> {

@@ -2,7 +2,10 @@
 #![allow(dead_code)]
 
 use nalgebra::Vector3;
-use rotorid_sim::plant::{derivative, trim_hover, Helicopter, SensorSample, State};
+use rotorid_sim::plant::{
+    derivative, simulate, trim_hover, Channel, Excitation, FlightConfig, Helicopter, SensorSample,
+    State,
+};
 
 /// Largest |f| over a flight.
 pub fn max_abs(s: &[SensorSample], f: impl Fn(&SensorSample) -> f64) -> f64 {
@@ -50,4 +53,36 @@ pub fn local_derivatives_hover_and_10_mps(p: &Helicopter) -> [(&'static str, f64
         ("M_q", damping(&hover, qa), damping(&fast, qa)),
         ("L_p", damping(&hover, pa), damping(&fast, pa)),
     ]
+}
+
+/// Doublets of opposite sign from trim (`lon` on the longitudinal, `lat` on the lateral cyclic,
+/// 0.5 s each way) give opposite rates of nearly equal size over the first 0.2 s: within 3 % of
+/// the peak, which must exceed 0.1 rad/s. See the X-Cell test for why 3 %.
+pub fn assert_opposite_doublets_give_opposite_rates(config: &FlightConfig, lon: f64, lat: f64) {
+    let q = |s: &SensorSample| s.q;
+    let p = |s: &SensorSample| s.p;
+    for (ch, amplitude, rate) in [
+        (Channel::Lon, lon, &q as &dyn Fn(&SensorSample) -> f64),
+        (Channel::Lat, lat, &p),
+    ] {
+        let fly = |a: f64| {
+            simulate(config, &mut |_, t| {
+                Excitation::on(ch, if t < 0.5 { a } else { -a })
+            })
+            .expect("bounded")
+        };
+        let (plus, minus) = (fly(amplitude), fly(-amplitude));
+        let early: Vec<(f64, f64)> = plus
+            .iter()
+            .zip(&minus)
+            .filter(|(s, _)| s.t <= 0.2 + 1e-9)
+            .map(|(a, b)| (rate(a), rate(b)))
+            .collect();
+        assert_eq!(early.len(), 11);
+        let peak = early.iter().map(|(a, _)| a.abs()).fold(0.0, f64::max);
+        assert!(peak > 0.1, "{ch:?} peak {peak}");
+        for (a, b) in &early {
+            assert!((a + b).abs() <= 0.03 * peak, "{ch:?}: {a} vs {b}");
+        }
+    }
 }
