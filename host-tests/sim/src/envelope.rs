@@ -11,7 +11,7 @@
 //!
 //! * [`EnvelopeKind::Identification`] (seed 1 in the reports) and
 //!   [`EnvelopeKind::Verification`] (seed 2) fly different set-point schedules and different
-//!   manoeuvres (the same generator as the hover verification flight, [`verification_excitation`]).
+//!   manoeuvres (the same generator as the hover verification flight, [`crate::plant::verification_excitation`]).
 //! * The set-points are in the heading frame, `[forward, right, down]` (m/s), ramped at
 //!   1 m/s² (horizontal) and 0.5 m/s² (vertical); each is held for [`DWELL_S`] seconds.
 //! * The hover-hold pilot flies all four channels around its set-point, with slow integrators

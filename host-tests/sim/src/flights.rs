@@ -174,7 +174,7 @@ fn slow_gains(g: &PilotGains) -> PilotGains {
 
 /// A verification flight of `duration_s` seconds: after 3 s of hover, doublets and 3-2-1-1
 /// multisteps on all four controls (one in four a large excursion) separated by 2.5–5 s of
-/// pilot-held hover ([`verification_excitation`]); realistic sensors from `seed`. Use a seed
+/// pilot-held hover ([`crate::plant::verification_excitation`]); realistic sensors from `seed`. Use a seed
 /// other than the identification flight's.
 pub fn verification_flight(seed: u64, duration_s: f64) -> Result<Vec<SensorSample>, PlantError> {
     verification_flight_with(&FlightConfig::realistic(seed, duration_s))
