@@ -5,7 +5,6 @@
 mod common;
 
 use common::{local_derivatives_hover_and_10_mps, max_abs, rel_err};
-use rotorid_sim::envelope::{envelope_flight_with, operating_points, EnvelopeKind};
 use rotorid_sim::flights::{identification_flight_with, verification_flight_with};
 use rotorid_sim::plant::*;
 
@@ -144,36 +143,11 @@ fn hover_flights_stay_near_hover() {
     assert!(max_abs(&verify, |x| x.roll) < 0.6 && max_abs(&verify, |x| x.pitch) < 0.6);
 }
 
-/// The envelope flight reaches its operating points from hover to 12 m/s forward and ±5 m/s
-/// sideways, and ±3 m/s vertical at hover: the mean over the last 5 s of each dwell within
-/// 0.5 m/s of the set-point. (The climb and the descent at 12 m/s are not reached in 25 s, on
-/// the X-Cell 60 either: the pilot's tilt limit and slow trim integrators; not asserted.)
+/// The envelope flight reaches its level and hover operating points
+/// ([`common::assert_envelope_reaches_level_points`]).
 #[test]
 fn envelope_flight_reaches_its_operating_points() {
-    let kind = EnvelopeKind::Identification;
-    let s = envelope_flight_with(&config(1, 0.0), kind).expect("bounded");
-    let per_point = s.len() / operating_points(kind).len();
-    let mut checked = 0;
-    for (i, goal) in operating_points(kind).iter().enumerate() {
-        if goal[0] != 0.0 && goal[2] != 0.0 {
-            continue;
-        }
-        let dwell_end = &s[(i + 1) * per_point - 250..(i + 1) * per_point];
-        let mean = |f: &dyn Fn(&SensorSample) -> f64| {
-            dwell_end.iter().map(f).sum::<f64>() / dwell_end.len() as f64
-        };
-        let got = [
-            mean(&|x| x.yaw.cos() * x.v_north + x.yaw.sin() * x.v_east),
-            mean(&|x| -x.yaw.sin() * x.v_north + x.yaw.cos() * x.v_east),
-            mean(&|x| x.v_down),
-        ];
-        for (g, w) in got.iter().zip(goal) {
-            assert!((g - w).abs() < 0.5, "point {i}: {got:?} vs {goal:?}");
-        }
-        checked += 1;
-    }
-    assert_eq!(checked, 10);
-    assert!(s.iter().all(|x| x.sticks.col > 0.0));
+    common::assert_envelope_reaches_level_points(&config(1, 0.0));
 }
 
 /// The local dynamics change across the envelope on this airframe too. With the flapping held,

@@ -381,6 +381,13 @@ fn flight_stepper_with_own_sticks() {
     assert!(f.state().omega.amax() < 1e-9);
 }
 
+/// The envelope flight reaches its level and hover operating points
+/// ([`common::assert_envelope_reaches_level_points`]).
+#[test]
+fn envelope_flight_reaches_its_operating_points() {
+    common::assert_envelope_reaches_level_points(&FlightConfig::realistic(1, 0.0));
+}
+
 /// The wide-envelope flights are only worth flying if the local dynamics change across the
 /// envelope: the damping and speed derivatives at 10 m/s forward differ from hover's.
 #[test]

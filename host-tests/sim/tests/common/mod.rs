@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use nalgebra::Vector3;
+use rotorid_sim::envelope::{envelope_flight_with, operating_points, EnvelopeKind};
 use rotorid_sim::plant::{
     derivative, simulate, trim_hover, Channel, Excitation, FlightConfig, Helicopter, SensorSample,
     State,
@@ -85,4 +86,37 @@ pub fn assert_opposite_doublets_give_opposite_rates(config: &FlightConfig, lon: 
             assert!((a + b).abs() <= 0.03 * peak, "{ch:?}: {a} vs {b}");
         }
     }
+}
+
+/// The identification envelope flight with `config` reaches its operating points from hover to
+/// 12 m/s forward and ±5 m/s sideways, and ±3 m/s vertical at hover: the mean over the last 5 s
+/// of each dwell within 0.75 m/s of the set-point, with the collective positive throughout. (The
+/// climb and the descent at 12 m/s are not reached in their 25 s on either airframe: the pilot's
+/// tilt limit and slow trim integrators; not asserted. The X-Cell drifts ≈ 4.5 m/s sideways in
+/// that descent and is still ≈ 0.56 m/s off sideways at the end of the next point, 6 m/s.)
+pub fn assert_envelope_reaches_level_points(config: &FlightConfig) {
+    let kind = EnvelopeKind::Identification;
+    let s = envelope_flight_with(config, kind).expect("bounded");
+    let per_point = s.len() / operating_points(kind).len();
+    let mut checked = 0;
+    for (i, goal) in operating_points(kind).iter().enumerate() {
+        if goal[0] != 0.0 && goal[2] != 0.0 {
+            continue;
+        }
+        let dwell_end = &s[(i + 1) * per_point - 250..(i + 1) * per_point];
+        let mean = |f: &dyn Fn(&SensorSample) -> f64| {
+            dwell_end.iter().map(f).sum::<f64>() / dwell_end.len() as f64
+        };
+        let got = [
+            mean(&|x| x.yaw.cos() * x.v_north + x.yaw.sin() * x.v_east),
+            mean(&|x| -x.yaw.sin() * x.v_north + x.yaw.cos() * x.v_east),
+            mean(&|x| x.v_down),
+        ];
+        for (g, w) in got.iter().zip(goal) {
+            assert!((g - w).abs() < 0.75, "point {i}: {got:?} vs {goal:?}");
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 10);
+    assert!(s.iter().all(|x| x.sticks.col > 0.0));
 }
