@@ -45,7 +45,14 @@ pub enum ReportError {
         /// The file.
         path: PathBuf,
     },
-    /// The plant's hover trim (for its derivatives beside the identified ones) failed.
-    #[error("the plant's derivatives")]
-    Plant(#[source] rotorid_sim::plant::PlantError),
+    /// A plant's hover trim or stick scaling (for the airframe table, or the derivatives
+    /// beside the identified ones) failed.
+    #[error("plant {airframe}")]
+    Plant {
+        /// The airframe's name.
+        airframe: &'static str,
+        /// The simulator's reason.
+        #[source]
+        source: rotorid_sim::plant::PlantError,
+    },
 }
