@@ -221,7 +221,7 @@ enum CliError {
     ProgressBar(#[from] indicatif::style::TemplateError),
     #[error(transparent)]
     Evaluate(#[from] EvaluateError),
-    #[error("f32 against f64")]
+    #[error("comparing f32 with f64")]
     Precision(#[source] rotorid::Error),
     #[error(transparent)]
     Figure(#[from] FigureError),
@@ -229,15 +229,12 @@ enum CliError {
     Report(#[from] ReportError),
 }
 
-fn read_text(path: &Path) -> Result<String, CliError> {
-    std::fs::read_to_string(path).map_err(|source| CliError::Read {
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
         path: path.to_path_buf(),
         source,
-    })
-}
-
-fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
-    serde_json::from_str(&read_text(path)?).map_err(|source| CliError::ParseJson {
+    })?;
+    serde_json::from_str(&text).map_err(|source| CliError::ParseJson {
         path: path.to_path_buf(),
         source,
     })
