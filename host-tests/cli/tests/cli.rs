@@ -167,8 +167,30 @@ fn end_to_end_on_a_short_flight() {
         .arg("--warm-start")
         .arg(out.join("params-paper-plain.json")));
     assert_eq!(o.status.code(), Some(1));
+    // The variant, what failed, then why (the error's causes).
     assert!(
-        text(&o.stderr).contains("warm start"),
+        text(&o.stderr).contains("paper fuzzy: warm start: model velocity: "),
+        "{}",
+        text(&o.stderr)
+    );
+
+    // `report` names the file it could not read, then the system's reason.
+    let lone = dir.join("lone");
+    std::fs::create_dir_all(&lone).expect("dir");
+    std::fs::copy(out.join("metrics.json"), lone.join("metrics.json")).expect("copy");
+    let o = run(bin()
+        .args(["report", "--realistic"])
+        .arg(out.join("metrics.json"))
+        .arg("--clean")
+        .arg(out.join("metrics.json"))
+        .arg("--envelope")
+        .arg(lone.join("metrics.json"))
+        .arg("-o")
+        .arg(dir.join("results.md")));
+    assert_eq!(o.status.code(), Some(1));
+    let missing = lone.join("params-flight.json");
+    assert!(
+        text(&o.stderr).contains(&format!("{}: cannot read: ", missing.display())),
         "{}",
         text(&o.stderr)
     );
