@@ -1,7 +1,7 @@
 //! The identifier variants the tool compares, behind one object-safe [`Identifier`] trait
 //! with parameter export/import as plain data.
 
-use rotorid::hover::{flight_sets, BodyFrame, Premise};
+use rotorid::hover::{flight_sets, BodyFrame, LocalVelocityModel, Premise, VelocityStructure};
 use rotorid::hover::{
     HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
 };
@@ -418,6 +418,11 @@ pub fn variants() -> Vec<Variant> {
             },
         },
         Variant {
+            name: "flight inertial drag",
+            description: "the flight default with the drag in inertial axes (VelocityStructure::Extended) instead of the heading frame: what the heading-frame drag adds",
+            build: |_| Ok(Box::new(flight_with_inertial_drag()?)),
+        },
+        Variant {
             name: "flight data sets",
             description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
             build: |training| {
@@ -428,6 +433,29 @@ pub fn variants() -> Vec<Variant> {
             },
         },
     ]
+}
+
+/// [`FlightIdentifier`] whose translational model has the extended structure's drag (per
+/// inertial axis) instead of the flight structure's (along and across the heading); the same
+/// premise, sets, rate models and settings.
+fn flight_with_inertial_drag() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    let config = HoverConfig::default();
+    let flight = FlightIdentifier::<f32>::flight(config, flight_sets())?;
+    let structure = VelocityStructure::Extended;
+    let velocity = LocalVelocityModel::<f32, 3, 7, 28>::with_scaling(
+        flight.velocity_model().ts().rules().clone(),
+        structure,
+        Premise::HeadingVelocity,
+        config.rls,
+        structure.helicopter_scaling(),
+    )?;
+    HoverIdentifier::new(
+        velocity,
+        flight.pitch_model().clone(),
+        flight.yaw_model().clone(),
+        flight.roll_model().clone(),
+        config,
+    )
 }
 
 /// The forward-speed sets of the flight identifier placed from training logs
