@@ -17,6 +17,11 @@ wire_enum! {
         Predict = 1,
         /// `resume`: start a new sample chain here without learning, then predict.
         Resume = 2,
+        /// Onboard free run, θ frozen: predict from this sample's attitude and controls with
+        /// `v^s` and `ω` replaced by the identifier's own previous prediction (see
+        /// [`SampleChain`](crate::SampleChain)). Refused (`Nack`) when an identifier has no
+        /// prediction to continue from.
+        FreeRun = 3,
     }
 }
 
@@ -163,14 +168,33 @@ wire_enum! {
     }
 }
 
+wire_enum! {
+    /// Which pair of identifiers answers `Sample` (the `fuzzy` and `plain` outputs of an
+    /// [`Estimate`]), chosen by a `Reset`.
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum IdentPair {
+        /// The paper's pair (reproduction): `PaperFuzzyIdentifier<f32>` and
+        /// `PaperPlainIdentifier<f32>`.
+        Paper = 0,
+        /// The flight default and its baseline: `FlightIdentifier<f32>` (built with
+        /// `flight_sets()`) and `ExtendedPlainIdentifier<f32>`.
+        Flight = 1,
+    }
+}
+
 fixed_payload! {
-    /// `Reset` payload (1 B): the [`RlsForm`] of both identifiers from now on. Answered by
-    /// `Ack` once both identifiers are back at θ = 0, P = αI, without a previous sample.
+    /// `Reset` payload (2 B): the [`RlsForm`] of every identifier from now on, and the
+    /// [`IdentPair`] that answers `Sample`. Answered by `Ack` once every identifier is back at
+    /// θ = 0, P = αI, without a previous sample or prediction.
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
     pub struct ResetMsg for [Reset] {
         /// RLS form.
         pub form: RlsForm,
+        /// The pair that answers `Sample`.
+        pub pair: IdentPair,
     }
 }
 
@@ -255,7 +279,7 @@ mod tests {
             mode: SampleMode::Learn,
             sample: sample(),
         });
-        b[0] = 3;
+        b[0] = 4;
         assert_eq!(SampleMsg::read(&b), Err(PayloadError::InvalidValue));
     }
 
@@ -295,13 +319,16 @@ mod tests {
     #[test]
     fn small_requests_roundtrip() {
         for &form in RlsForm::ALL {
-            let m = ResetMsg { form };
-            let b = roundtrip(&m);
-            assert_eq!(b, [form as u8]);
-            assert_eq!(ResetMsg::read(&b), Ok(m));
-            rejects_truncated_and_extended::<ResetMsg>(&b);
+            for &pair in IdentPair::ALL {
+                let m = ResetMsg { form, pair };
+                let b = roundtrip(&m);
+                assert_eq!(b, [form as u8, pair as u8]);
+                assert_eq!(ResetMsg::read(&b), Ok(m));
+                rejects_truncated_and_extended::<ResetMsg>(&b);
+            }
         }
-        assert!(ResetMsg::read(&[2]).is_err());
+        assert!(ResetMsg::read(&[2, 0]).is_err());
+        assert!(ResetMsg::read(&[0, 2]).is_err());
         for &ident in Ident::ALL {
             let m = IdentRequest { ident };
             let b = roundtrip(&m);
