@@ -134,6 +134,15 @@ mod tests {
         SampleMsg { mode, sample }
     }
 
+    /// `s` with the model's own state `x`.
+    fn fed(s: &HoverSample<f32>, x: &HoverState<f32>) -> HoverSample<f32> {
+        HoverSample {
+            velocity: x.velocity,
+            rates: x.rates,
+            ..*s
+        }
+    }
+
     fn bits(a: [f32; 6]) -> [u32; 6] {
         a.map(f32::to_bits)
     }
@@ -173,24 +182,16 @@ mod tests {
             .answer(&mut id, &msg(SampleMode::FreeRun, s[7]))
             .unwrap()
             .unwrap();
-        let own = HoverSample {
-            velocity: want.velocity,
-            rates: want.rates,
-            ..s[7]
-        };
-        let want_f = frozen.predict_after(Some(&s[6].state()), &own).unwrap();
+        let want_f = frozen
+            .predict_after(Some(&s[6].state()), &fed(&s[7], &want))
+            .unwrap();
         assert_eq!(bits(f.0), bits(want_f.to_array()));
         // A second FreeRun continues from the first one's own state.
         let g = chain
             .answer(&mut id, &msg(SampleMode::FreeRun, s[7]))
             .unwrap()
             .unwrap();
-        let own2 = HoverSample {
-            velocity: want_f.velocity,
-            rates: want_f.rates,
-            ..s[7]
-        };
-        let want_g = frozen.predict_after(Some(&want), &own2);
+        let want_g = frozen.predict_after(Some(&want), &fed(&s[7], &want_f));
         assert_eq!(bits(g.0), bits(want_g.unwrap().to_array()));
         // Prediction-only modes learn nothing.
         assert_eq!(id.export(), frozen.export());
