@@ -47,6 +47,16 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
         premise: &[T; V],
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error>;
+    /// [`predict_many`](Self::predict_many) from `&mut self`: the same predictions, and the
+    /// estimator may keep what [`prepare`](Self::prepare) from the same premise needs next
+    /// (the global estimator keeps nothing: the paper's identifier has no room for it).
+    fn predict_keep<const M: usize>(
+        &mut self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        self.predict_many(premise, terms)
+    }
     /// Checks and computes an update without changing anything.
     fn prepare<const M: usize>(
         &self,
@@ -159,6 +169,13 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
         self.predict_many(premise, terms)
+    }
+    fn predict_keep<const M: usize>(
+        &mut self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        self.predict_keep(premise, terms)
     }
     fn prepare<const M: usize>(
         &self,

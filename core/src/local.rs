@@ -47,6 +47,52 @@ pub struct LocalTsRls<T, const V: usize, const R: usize, const D: usize, const D
     /// The settings every rule's estimator has (kept here too so that reading them needs no
     /// rule).
     config: RlsConfig<T>,
+    /// What [`predict_keep`](Self::predict_keep) computed, for the update from the same
+    /// premise (see [`Kept`]).
+    kept: Kept<T, V, R, D>,
+}
+
+/// The firing strengths ξ and block products `b` of the last
+/// [`predict_keep`](LocalTsRls::predict_keep). An identifier predicts from sample k at step k
+/// and learns from sample k at step k+1, with the same premise and the same θ in between: the
+/// update reuses them instead of computing them again. Valid only for the premise it was
+/// computed from (compared bit for bit) and until θ changes (every `&mut` method but
+/// `predict_keep` clears it), so reusing it gives the very bits a recomputation would.
+///
+/// A cache, not state: it takes no part in equality (an estimator that kept a prediction
+/// equals one that did not), export or import.
+#[derive(Clone, Copy, Debug)]
+struct Kept<T, const V: usize, const R: usize, const D: usize> {
+    premise: [T; V],
+    strengths: [T; R],
+    blocks: [T; D],
+    valid: bool,
+}
+
+impl<T: Real, const V: usize, const R: usize, const D: usize> Kept<T, V, R, D> {
+    fn none() -> Self {
+        Self {
+            premise: [T::zero(); V],
+            strengths: [T::zero(); R],
+            blocks: [T::zero(); D],
+            valid: false,
+        }
+    }
+
+    /// ξ and `b` if they were computed from exactly this premise.
+    fn for_premise(&self, premise: &[T; V]) -> Option<([T; R], [T; D])> {
+        let same = premise
+            .iter()
+            .zip(self.premise.iter())
+            .all(|(a, b)| a.to_bits_u64() == b.to_bits_u64());
+        (self.valid && same).then_some((self.strengths, self.blocks))
+    }
+}
+
+impl<T, const V: usize, const R: usize, const D: usize> PartialEq for Kept<T, V, R, D> {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// AllParameters a [`LocalTsRls`] has learnt: each rule's θ_i and covariance factor, in rule
@@ -91,6 +137,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             local: core::array::from_fn(|_| Rls::new_unchecked(config)),
             scaling,
             config,
+            kept: Kept::none(),
         }
     }
 
@@ -140,11 +187,46 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         premise: &[T; V],
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
+        let (_, b) = self.strengths_and_blocks(premise)?;
+        self.predict_from_blocks(&b, terms)
+    }
+
+    /// [`predict_many`](Self::predict_many), keeping the firing strengths and block products
+    /// for the update from the same premise at the next step ([`prepare`](Self::prepare)).
+    pub fn predict_keep<const M: usize>(
+        &mut self,
+        premise: &[T; V],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
+        self.kept.valid = false;
+        let (strengths, b) = self.strengths_and_blocks(premise)?;
+        self.kept = Kept {
+            premise: *premise,
+            strengths,
+            blocks: b,
+            valid: true,
+        };
+        self.predict_from_blocks(&b, terms)
+    }
+
+    /// ξ and `b` for this premise: kept from the last prediction, or computed.
+    fn strengths_and_blocks(&self, premise: &[T; V]) -> Result<([T; R], [T; D]), Error> {
+        if let Some(kept) = self.kept.for_premise(premise) {
+            return Ok(kept);
+        }
         let strengths = self.rules.firing_strengths(premise)?;
         let b = self.block_products(&strengths);
+        Ok((strengths, b))
+    }
+
+    fn predict_from_blocks<const M: usize>(
+        &self,
+        b: &[T; D],
+        terms: &[[T; D]; M],
+    ) -> Result<[T; M], Error> {
         let mut out = [T::zero(); M];
         for (o, t) in out.iter_mut().zip(terms.iter()) {
-            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, &b) * self.scaling.target;
+            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, b) * self.scaling.target;
         }
         Ok(out)
     }
@@ -158,8 +240,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         terms: &[[T; D]; M],
         targets: &[T; M],
     ) -> Result<Prepared<T, R, D, M>, Error> {
-        let strengths = self.rules.firing_strengths(premise)?;
-        let b = self.block_products(&strengths);
+        let (strengths, b) = self.strengths_and_blocks(premise)?;
         let prepared = prepare_rows(strengths, &b, &self.scaling, terms, targets)?;
         let limit = T::lit(TARGET_LIMIT);
         if let (Some(row), Some(&y)) = (prepared.rows.first(), prepared.targets.first()) {
@@ -176,6 +257,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     /// the model unchanged since: every rule with `ξ_i ≥` [`MIN_LOCAL_STRENGTH`] takes each row
     /// weighted by `√ξ_i`, forgetting with `λ_i` once per sample.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        self.kept = Kept::none();
         let min = T::lit(MIN_LOCAL_STRENGTH);
         let last = prepared.count.saturating_sub(1);
         for (&w, rls) in prepared.strengths.iter().zip(self.local.iter_mut()) {
@@ -207,6 +289,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
 
     /// Back to θ_i = 0, P_i = αI for every rule.
     pub fn reset(&mut self) {
+        self.kept = Kept::none();
         for rls in &mut self.local {
             rls.reset();
         }
@@ -229,6 +312,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     /// changed.
     pub fn import(&mut self, state: &LocalState<T, R, D, DP>) -> Result<(), Error> {
         self.check_import(state)?;
+        self.kept = Kept::none();
         for (rls, s) in self.local.iter_mut().zip(state.iter()) {
             rls.import(s)?;
         }
@@ -243,6 +327,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     ) -> Result<(), Error> {
         config.validate()?;
         scaling.validate()?;
+        self.kept = Kept::none();
         for rls in &mut self.local {
             rls.reconfigure(config)?;
         }

@@ -1,7 +1,7 @@
 //! Local learning ([`rotorid::local`]) and the flight identifier.
 use rotorid::hover::{
-    flight_sets, Attitude, Controls, HoverSample, LocalRateModel, LocalVelocityModel, Premise,
-    RateAxis, RateStructure, VelocityStructure,
+    flight_sets, Attitude, BodyFrame, Controls, HoverSample, HoverState, LocalRateModel,
+    LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel, VelocityStructure,
 };
 use rotorid::learning::Learning;
 use rotorid::local::MIN_LOCAL_STRENGTH;
@@ -223,6 +223,116 @@ fn export_import_warm_start_continues_bit_for_bit() {
     let kept = warm.clone();
     assert!(warm.import(&state).is_err());
     assert_eq!(warm, kept);
+}
+
+/// Learns sample k−1 → k in one model through the model's own calls (`prepare_in`, `apply`),
+/// as the identifier's step does, but never predicting: nothing is kept, so the firing
+/// strengths and block products are computed afresh every time.
+fn learn_afresh<M: StateModel<f32>>(model: &mut M, k: u64) -> HoverState<f32> {
+    let (from, to) = (sample::<f32>(k - 1), sample::<f32>(k));
+    let before = if k >= 2 {
+        sample::<f32>(k - 2).rates
+    } else {
+        from.rates
+    };
+    let prepared = model
+        .prepare_in(&from, &BodyFrame::of(&from.attitude), &before, &to)
+        .unwrap();
+    let mut innovation = HoverState::default();
+    model.apply(&prepared, &mut innovation);
+    innovation
+}
+
+fn bits(s: &HoverState<f32>) -> [u32; 6] {
+    s.to_array().map(f32::to_bits)
+}
+
+#[test]
+fn kept_strengths_give_the_bits_of_a_recomputation() {
+    // `id` learns each sample with the ξ and block products kept from its prediction at the
+    // step before; the four models beside it compute them afresh. θ, P and the innovations
+    // must agree bit for bit at every step, and so must a prediction from another sample
+    // (whose premise differs from the one kept).
+    let mut id = flight();
+    let twin = flight();
+    let (mut v, mut q) = (twin.velocity_model().clone(), twin.pitch_model().clone());
+    let (mut r, mut p) = (twin.yaw_model().clone(), twin.roll_model().clone());
+    id.step(&sample(0)).unwrap();
+    for k in 1..1500 {
+        let out = id.step(&sample(k)).unwrap();
+        let mut innovation = learn_afresh(&mut v, k);
+        innovation.rates[0] = learn_afresh(&mut q, k).rates[0];
+        innovation.rates[1] = learn_afresh(&mut r, k).rates[1];
+        innovation.rates[2] = learn_afresh(&mut p, k).rates[2];
+        assert_eq!(out.innovation.map(|i| bits(&i)), Some(bits(&innovation)));
+        let elsewhere = sample::<f32>(k + 1000);
+        let mut expected = HoverState::default();
+        for model in [&v as &dyn Predicts, &q, &r, &p] {
+            model.predict_into(&elsewhere, &mut expected);
+        }
+        let predicted = id.predict_after(None, &elsewhere).unwrap();
+        assert_eq!(bits(&predicted), bits(&expected), "sample {k}");
+        assert_eq!(id.velocity_model().export(), v.export(), "sample {k}");
+        assert_eq!(id.pitch_model().export(), q.export(), "sample {k}");
+        assert_eq!(id.yaw_model().export(), r.export(), "sample {k}");
+        assert_eq!(id.roll_model().export(), p.export(), "sample {k}");
+    }
+}
+
+#[test]
+fn a_model_imported_mid_chain_does_not_reuse_what_it_kept() {
+    // Importing one model does not restart the chain, and it changes θ: the next update must
+    // not reuse block products computed with the old θ.
+    let mut other = flight();
+    for k in 0..700 {
+        other.step(&sample(k + 3000)).unwrap();
+    }
+    let yaw = other.yaw_model().export();
+    let mut id = flight();
+    for k in 0..300 {
+        id.step(&sample(k)).unwrap();
+    }
+    id.yaw_model_mut().import(&yaw).unwrap();
+    // A model that never predicted, with the same θ and P.
+    let mut afresh = flight().yaw_model().clone();
+    afresh.import(&yaw).unwrap();
+    for k in 300..400 {
+        let out = id.step(&sample(k)).unwrap();
+        let innovation = learn_afresh(&mut afresh, k);
+        let r = out.innovation.map(|i| i.rates[1].to_bits());
+        assert_eq!(r, Some(innovation.rates[1].to_bits()), "sample {k}");
+        assert_eq!(id.yaw_model().export(), afresh.export(), "sample {k}");
+    }
+}
+
+#[test]
+fn learning_through_a_model_drops_what_it_kept() {
+    let mut id = flight();
+    for k in 0..300 {
+        id.step(&sample(k)).unwrap();
+    }
+    // The yaw model keeps ξ and b of its prediction from sample 299; learning 299 → 300
+    // changes θ, so a prediction from sample 299 afterwards must not reuse b.
+    let mut model = id.yaw_model().clone();
+    let mut afresh = flight().yaw_model().clone();
+    afresh.import(&model.export()).unwrap();
+    learn_afresh(&mut model, 300);
+    learn_afresh(&mut afresh, 300);
+    let (mut a, mut b) = (HoverState::default(), HoverState::default());
+    model.predict(&sample(299), &mut a).unwrap();
+    afresh.predict(&sample(299), &mut b).unwrap();
+    assert_eq!(bits(&a), bits(&b));
+}
+
+/// A model's one-step prediction, object-safe (the four models differ in type).
+trait Predicts {
+    fn predict_into(&self, s: &HoverSample<f32>, next: &mut HoverState<f32>);
+}
+
+impl<M: StateModel<f32>> Predicts for M {
+    fn predict_into(&self, s: &HoverSample<f32>, next: &mut HoverState<f32>) {
+        self.predict(s, next).unwrap();
+    }
 }
 
 #[test]

@@ -285,7 +285,7 @@ where
         self.timing.links = if self.timing.links > 0 { 2 } else { 1 };
         // The sample passed SampleLimits, which bounds every regressor; only parameters beyond
         // any learnt ones could make this fail (see the docs above).
-        let prediction = self.predict_in(sample, &frame, &before)?;
+        let prediction = self.predict_keep(sample, &frame, &before)?;
         Ok(StepOutput {
             prediction,
             innovation,
@@ -331,13 +331,24 @@ where
         self.pitch.predict_in(sample, frame, before, &mut next)?;
         self.yaw.predict_in(sample, frame, before, &mut next)?;
         self.roll.predict_in(sample, frame, before, &mut next)?;
-        // Never a non-finite number out of an `Ok`: parameters far beyond anything learning
-        // produces (an absurd imported state, say) could overflow a prediction.
-        if next.to_array().iter().all(|x| x.is_finite()) {
-            Ok(next)
-        } else {
-            Err(Error::Numerical)
-        }
+        finite(next)
+    }
+
+    /// [`predict_in`](Self::predict_in) from the end of the chain: the same prediction, and
+    /// each model may keep what its update from `sample` at the next step reuses.
+    fn predict_keep(
+        &mut self,
+        sample: &HoverSample<T>,
+        frame: &BodyFrame<T>,
+        before: &[T; 3],
+    ) -> Result<HoverState<T>, Error> {
+        let mut next = HoverState::default();
+        self.velocity
+            .predict_keep(sample, frame, before, &mut next)?;
+        self.pitch.predict_keep(sample, frame, before, &mut next)?;
+        self.yaw.predict_keep(sample, frame, before, &mut next)?;
+        self.roll.predict_keep(sample, frame, before, &mut next)?;
+        finite(next)
     }
 
     /// Starts a new sample chain at `sample` without learning (after a gap, a time jump, or
@@ -345,7 +356,7 @@ where
     pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
         let frame = BodyFrame::of(&sample.attitude);
-        let prediction = self.predict_in(sample, &frame, &sample.rates)?;
+        let prediction = self.predict_keep(sample, &frame, &sample.rates)?;
         self.chain = Chain {
             sample: *sample,
             frame,
@@ -459,5 +470,15 @@ where
             });
         }
         Ok(())
+    }
+}
+
+/// Never a non-finite number out of an `Ok`: parameters far beyond anything learning produces
+/// (an absurd imported state, say) could overflow a prediction.
+fn finite<T: Real>(next: HoverState<T>) -> Result<HoverState<T>, Error> {
+    if next.to_array().iter().all(|x| x.is_finite()) {
+        Ok(next)
+    } else {
+        Err(Error::Numerical)
     }
 }

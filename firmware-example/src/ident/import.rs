@@ -4,16 +4,18 @@
 
 use rotorid::hover::{HoverModels, HoverSnapshot, StateModel};
 use rotorid::{PaperFuzzyIdentifier, PaperPlainIdentifier, RlsState};
-use rotorid_link::msg::{self, DataChunk, Ident, IdentPair, MsgType, NackReason};
+use rotorid_link::msg::{
+    self, state_len, DataChunk, Ident, IdentPair, MsgType, NackReason, StateDecoder, StateParts,
+};
 use rotorid_link::Reader;
 
 use super::{Identification, Reply};
 
 /// Bytes of the plain identifier's snapshot stream (its four models' states).
-pub const PLAIN_SNAPSHOT_LEN: usize = stream_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
-    + stream_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
-    + stream_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
-    + stream_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
+pub const PLAIN_SNAPSHOT_LEN: usize = state_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
+    + state_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
+    + state_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
+    + state_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
 
 /// Staging area of an import into the plain identifier.
 pub(super) struct ImportStage {
@@ -35,16 +37,11 @@ type PlainQ = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Pitch>;
 type PlainR = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Yaw>;
 type PlainP = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Roll>;
 
-/// Bytes of one model in the snapshot stream: algorithm u8, updates u32, θ, factor (f32 each).
-const fn stream_len(parameters: usize, factor: usize) -> usize {
-    5 + 4 * (parameters + factor)
-}
-
 const MODEL_LEN: [usize; 4] = [
-    stream_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
-    stream_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
-    stream_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
-    stream_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
+    state_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
+    state_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
+    state_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
+    state_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
 ];
 /// Bytes of the fuzzy identifier's snapshot stream.
 pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
@@ -63,9 +60,8 @@ enum FuzzyModel {
 /// A fuzzy import in progress (one model staged at a time).
 pub(super) struct FuzzyImport {
     model: usize,
-    /// Bytes of the current model received.
-    pos: usize,
-    word: [u8; 4],
+    /// The current model's bytes so far.
+    decoder: StateDecoder,
     state: FuzzyModel,
     received: usize,
     total: u32,
@@ -84,61 +80,6 @@ fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
         factor: [0.0; NP],
         updates: 0,
     }
-}
-
-/// Stores byte `pos` of one model's stream (algorithm u8, updates u32, θ, factor as f32).
-/// Not generic: one copy serves all four model sizes.
-fn store_state_byte(
-    (algorithm, updates, theta, factor): (
-        &mut rotorid::Algorithm,
-        &mut u32,
-        &mut [f32],
-        &mut [f32],
-    ),
-    pos: usize,
-    b: u8,
-    word: &mut [u8; 4],
-) -> bool {
-    match pos {
-        0 => {
-            *algorithm = match rotorid::Algorithm::from_code(b) {
-                Some(a) => a,
-                None => return false,
-            };
-        }
-        1..=4 => {
-            let shift = 8 * (pos - 1);
-            *updates = (*updates & !(0xff << shift)) | (u32::from(b) << shift);
-        }
-        _ => {
-            let k = (pos - 5) % 4;
-            if let Some(w) = word.get_mut(k) {
-                *w = b;
-            }
-            if k == 3 {
-                let v = f32::from_le_bytes(*word);
-                let i = (pos - 5) / 4;
-                let n = theta.len();
-                if let Some(t) = theta.get_mut(i) {
-                    *t = v;
-                } else if let Some(f) = factor.get_mut(i - n) {
-                    *f = v;
-                }
-            }
-        }
-    }
-    true
-}
-
-fn parts<const N: usize, const NP: usize>(
-    s: &mut RlsState<f32, N, NP>,
-) -> (&mut rotorid::Algorithm, &mut u32, &mut [f32], &mut [f32]) {
-    (
-        &mut s.algorithm,
-        &mut s.updates,
-        &mut s.theta,
-        &mut s.factor,
-    )
 }
 
 type PlainSnapshot = HoverSnapshot<PlainV, PlainQ, PlainR, PlainP>;
@@ -257,8 +198,7 @@ impl Identification {
             }
             self.fuzzy_stage = Some(FuzzyImport {
                 model: 0,
-                pos: 0,
-                word: [0; 4],
+                decoder: StateDecoder::new(),
                 state: FuzzyModel::V(blank()),
                 received: 0,
                 total: c.total,
@@ -280,17 +220,15 @@ impl Identification {
             return Err(NackReason::Refused);
         };
         for &b in c.data {
-            let target = match &mut st.state {
-                FuzzyModel::V(s) => parts(s),
-                FuzzyModel::Q(s) => parts(s),
-                FuzzyModel::R(s) | FuzzyModel::P(s) => parts(s),
+            let parts = match &mut st.state {
+                FuzzyModel::V(s) => StateParts::from(s),
+                FuzzyModel::Q(s) => StateParts::from(s),
+                FuzzyModel::R(s) | FuzzyModel::P(s) => StateParts::from(s),
             };
-            let ok = store_state_byte(target, st.pos, b, &mut st.word);
-            if !ok {
+            if st.decoder.push(parts, b).is_err() {
                 return Err(NackReason::BadPayload);
             }
-            st.pos += 1;
-            if st.pos < MODEL_LEN.get(st.model).copied().unwrap_or(0) {
+            if st.decoder.position() < MODEL_LEN.get(st.model).copied().unwrap_or(0) {
                 continue;
             }
             // A whole model: check and import it, then stage the next.
@@ -309,7 +247,7 @@ impl Identification {
                 return Err(NackReason::Refused);
             }
             st.model += 1;
-            st.pos = 0;
+            st.decoder = StateDecoder::new();
             match st.model {
                 1 => st.state = FuzzyModel::Q(blank()),
                 2 => st.state = FuzzyModel::R(blank()),

@@ -127,8 +127,8 @@ pub use ident::{
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{
-    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, stream_crc,
-    summary_words, DataChunk, ParamField, ParamsChunk,
+    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, state_len, stream_crc,
+    summary_words, DataChunk, ParamField, ParamsChunk, StateDecoder, StateParts,
 };
 pub use sweep::{SweepSample, SweepStart};
 pub use test_hooks::{CostReport, CostRequest, FaultKind, MemoryReport, Workload};

@@ -187,7 +187,15 @@ pub fn summary_words(model: &RlsView<'_, f32>) -> [u32; ParamsChunk::SUMMARY_WOR
 /// Bytes of one estimator in the snapshot stream: algorithm u8, updates u32, θ, factor (f32
 /// each).
 pub fn model_len(model: &RlsView<'_, f32>) -> usize {
-    5 + 4 * (model.len() + model.packed_factor().len())
+    state_len(model.len(), model.packed_factor().len())
+}
+
+/// Bytes of one estimator's part of the snapshot stream, from its sizes: algorithm u8,
+/// updates u32, then `parameters` θ and `factor_len` packed factor entries as f32 (all
+/// little-endian). `const`, so that a receiver can size its buffers from
+/// [`RlsState::PARAMETERS`] and [`RlsState::FACTOR_LEN`].
+pub const fn state_len(parameters: usize, factor_len: usize) -> usize {
+    5 + 4 * (parameters + factor_len)
 }
 
 /// Byte `i` of one estimator's part of the snapshot stream (0 past its end).
@@ -271,6 +279,98 @@ pub fn snapshot_crc(models: &[RlsView<'_, f32>]) -> u32 {
         offset += n;
     }
     digest.finalize()
+}
+
+/// An [`RlsState`]'s fields as slices, so that one [`StateDecoder`] serves every model size.
+#[derive(Debug)]
+pub struct StateParts<'a> {
+    /// The RLS form.
+    pub algorithm: &'a mut Algorithm,
+    /// The update counter.
+    pub updates: &'a mut u32,
+    /// θ (scaled coordinates).
+    pub theta: &'a mut [f32],
+    /// The packed covariance or U-D factor.
+    pub factor: &'a mut [f32],
+}
+
+impl<'a, const N: usize, const NP: usize> From<&'a mut RlsState<f32, N, NP>> for StateParts<'a> {
+    fn from(s: &'a mut RlsState<f32, N, NP>) -> Self {
+        Self {
+            algorithm: &mut s.algorithm,
+            updates: &mut s.updates,
+            theta: &mut s.theta,
+            factor: &mut s.factor,
+        }
+    }
+}
+
+/// Rebuilds one model's [`RlsState`] from its snapshot-stream bytes, one byte at a time (the
+/// inverse of what [`snapshot_read`] writes), for a receiver that cannot stage a whole stream:
+/// the firmware decodes the fuzzy identifier's 10.5 KiB import straight into one model's
+/// staging state. [`read_rls_state`] is the same from a buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StateDecoder {
+    pos: usize,
+    word: [u8; 4],
+}
+
+impl StateDecoder {
+    /// A decoder at the start of a model.
+    pub const fn new() -> Self {
+        Self {
+            pos: 0,
+            word: [0; 4],
+        }
+    }
+
+    /// Bytes taken so far.
+    pub fn position(&self) -> usize {
+        self.pos
+    }
+
+    /// Whether the model whose fields are `parts` is complete.
+    pub fn is_complete(&self, parts: &StateParts<'_>) -> bool {
+        self.pos == state_len(parts.theta.len(), parts.factor.len())
+    }
+
+    /// Takes the next byte into `parts`. Errors, with nothing taken:
+    /// [`PayloadError::InvalidValue`] for an unknown algorithm code,
+    /// [`PayloadError::TrailingBytes`] past the end of the model.
+    pub fn push(&mut self, parts: StateParts<'_>, byte: u8) -> Result<(), PayloadError> {
+        let StateParts {
+            algorithm,
+            updates,
+            theta,
+            factor,
+        } = parts;
+        match self.pos {
+            0 => *algorithm = Algorithm::from_code(byte).ok_or(PayloadError::InvalidValue)?,
+            1..=4 => {
+                let shift = 8 * (self.pos - 1);
+                *updates = (*updates & !(0xff << shift)) | (u32::from(byte) << shift);
+            }
+            pos => {
+                let i = (pos - 5) / 4;
+                let slot = match theta.len() {
+                    n if i < n => theta.get_mut(i),
+                    n => factor.get_mut(i - n),
+                };
+                let Some(slot) = slot else {
+                    return Err(PayloadError::TrailingBytes { extra: 1 });
+                };
+                let k = (pos - 5) % 4;
+                if let Some(w) = self.word.get_mut(k) {
+                    *w = byte;
+                }
+                if k == 3 {
+                    *slot = f32::from_le_bytes(self.word);
+                }
+            }
+        }
+        self.pos += 1;
+        Ok(())
+    }
 }
 
 /// Reads one model's state (as written by the snapshot stream) into an [`RlsState`].
@@ -392,5 +492,42 @@ mod tests {
         let mut bad = whole.clone();
         bad[0] = 2;
         assert!(read_rls_state::<2, 3>(&mut Reader::new(&bad)).is_err());
+
+        // Byte by byte, the stream decoder rebuilds the same states.
+        fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
+            RlsState {
+                algorithm: Algorithm::Covariance,
+                theta: [0.0; N],
+                factor: [0.0; NP],
+                updates: 0,
+            }
+        }
+        let mut first = blank::<2, 3>();
+        let mut second = blank::<1, 1>();
+        let (mut d1, mut d2) = (StateDecoder::new(), StateDecoder::new());
+        for &byte in &whole {
+            if !d1.is_complete(&StateParts::from(&mut first)) {
+                d1.push(StateParts::from(&mut first), byte).unwrap();
+            } else {
+                d2.push(StateParts::from(&mut second), byte).unwrap();
+            }
+        }
+        assert!(d2.is_complete(&StateParts::from(&mut second)));
+        assert_eq!(first, a);
+        assert_eq!(second, b);
+        assert_eq!(d1.position(), state_len(2, 3));
+        // Past the end, and an unknown algorithm code: refused, nothing taken.
+        let before = second;
+        assert_eq!(
+            d2.push(StateParts::from(&mut second), 0),
+            Err(PayloadError::TrailingBytes { extra: 1 })
+        );
+        assert_eq!((second, d2.position()), (before, state_len(1, 1)));
+        let mut d = StateDecoder::new();
+        assert_eq!(
+            d.push(StateParts::from(&mut second), 2),
+            Err(PayloadError::InvalidValue)
+        );
+        assert_eq!((second, d.position()), (before, 0));
     }
 }

@@ -84,6 +84,20 @@ pub trait StateModel<T: Real> {
         let _ = (from_frame, before);
         self.predict(from, next)
     }
+
+    /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
+    /// estimator may keep what the update from `from` at the next step reuses (the local
+    /// one keeps its firing strengths and block products, see
+    /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)).
+    fn predict_keep(
+        &mut self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        self.predict_in(from, from_frame, before, next)
+    }
 }
 
 /// The premise variables a model's rules are scheduled on.

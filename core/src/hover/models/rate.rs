@@ -302,6 +302,22 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         Ok(())
     }
 
+    fn predict_keep(
+        &mut self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let premise = self.premise.of(from, from_frame);
+        let terms = [self.terms_in(from, from_frame, before)];
+        let [increment] = self.ts.predict_keep(&premise, &terms)?;
+        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
+            *slot = self.rate(from) + increment;
+        }
+        Ok(())
+    }
+
     fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
         self.ts.apply(prepared);
         if let Some(slot) = innovation.rates.get_mut(self.axis.index()) {

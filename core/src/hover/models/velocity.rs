@@ -255,11 +255,21 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
             &self.premise.of(from, from_frame),
             &self.terms_in(from, from_frame),
         )?;
-        let mut out = from.velocity;
-        for (o, &d) in out.iter_mut().zip(increments.iter()) {
-            *o += d;
-        }
-        next.velocity = out;
+        next.velocity = advance(from, &increments);
+        Ok(())
+    }
+
+    fn predict_keep(
+        &mut self,
+        from: &HoverSample<T>,
+        from_frame: &BodyFrame<T>,
+        _before: &[T; 3],
+        next: &mut HoverState<T>,
+    ) -> Result<(), Error> {
+        let premise = self.premise.of(from, from_frame);
+        let terms = self.terms_in(from, from_frame);
+        let increments = self.ts.predict_keep(&premise, &terms)?;
+        next.velocity = advance(from, &increments);
         Ok(())
     }
 
@@ -304,4 +314,13 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
         (self.premise, self.ts.rules().variables())
     }
+}
+
+/// `v^s(k) + Δv̂`: the predicted velocity from the predicted increments.
+fn advance<T: Real>(from: &HoverSample<T>, increments: &[T; 3]) -> [T; 3] {
+    let mut out = from.velocity;
+    for (o, &d) in out.iter_mut().zip(increments.iter()) {
+        *o += d;
+    }
+    out
 }
