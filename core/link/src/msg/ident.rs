@@ -127,7 +127,8 @@ impl Field for IdOutput {
 
 fixed_payload! {
     /// `Estimate` payload (171 B): the sample's `time_us` u64 and mode u8, then the fuzzy and
-    /// the plain identifier's [`IdOutput`] (81 B each).
+    /// the plain identifier's [`IdOutput`] (81 B each) of the [`IdentPair`] the last `Reset`
+    /// chose.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
     pub struct Estimate for [Estimate] {
@@ -135,15 +136,16 @@ fixed_payload! {
         pub time_us: u64,
         /// The sample's mode.
         pub mode: SampleMode,
-        /// The Takagi-Sugeno identifier.
+        /// The pair's Takagi-Sugeno identifier (paper fuzzy, or the flight default).
         pub fuzzy: IdOutput,
-        /// The plain (single-rule) identifier.
+        /// The pair's single-rule baseline (paper plain, or extended plain).
         pub plain: IdOutput,
     }
 }
 
 wire_enum! {
-    /// Which onboard identifier a request is about.
+    /// Which onboard identifier of the paper pair a request (params, export, import) is
+    /// about; refused while the flight pair answers `Sample`.
     #[non_exhaustive]
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
