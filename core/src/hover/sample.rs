@@ -129,6 +129,29 @@ impl<T: Real> HoverSample<T> {
             rates: self.rates,
         }
     }
+
+    /// The same sample in another precision, e.g. an `f32` flight log replayed in `f64`
+    /// (exact from `f32` to `f64`; rounded to nearest the other way).
+    pub fn cast<U: Real>(&self) -> HoverSample<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        let (a, u) = (&self.attitude, &self.controls);
+        HoverSample {
+            time_us: self.time_us,
+            attitude: Attitude {
+                roll: c(a.roll),
+                pitch: c(a.pitch),
+                yaw: c(a.yaw),
+            },
+            velocity: self.velocity.map(c),
+            rates: self.rates.map(c),
+            controls: Controls {
+                col: c(u.col),
+                ped: c(u.ped),
+                lon: c(u.lon),
+                lat: c(u.lat),
+            },
+        }
+    }
 }
 
 /// The ranges a [`HoverSample`] must lie in to be accepted.
@@ -186,5 +209,46 @@ fn check<T: Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
         Err(Error::OutOfRange(q))
     } else {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cast_to_f64_and_back_keeps_every_bit() {
+        let s = HoverSample::<f32> {
+            time_us: 123_456_789,
+            attitude: Attitude {
+                roll: 0.1,
+                pitch: -0.2,
+                yaw: 3.1,
+            },
+            velocity: [1.5, -0.25, 1e-7],
+            rates: [12.3, -45.6, 0.001],
+            controls: Controls {
+                col: 0.51,
+                ped: -0.07,
+                lon: 0.03,
+                lat: -0.3,
+            },
+        };
+        let wide: HoverSample<f64> = s.cast();
+        assert_eq!(wide.rates[0], f64::from(12.3f32));
+        let back: HoverSample<f32> = wide.cast();
+        let bits = |s: &HoverSample<f32>| {
+            let a = &s.attitude;
+            let c = s.controls.to_array();
+            [a.roll, a.pitch, a.yaw]
+                .iter()
+                .chain(&s.velocity)
+                .chain(&s.rates)
+                .chain(&c)
+                .map(|x| x.to_bits())
+                .collect::<heapless::Vec<u32, 13>>()
+        };
+        assert_eq!(bits(&back), bits(&s));
+        assert_eq!(back.time_us, s.time_us);
     }
 }

@@ -5,8 +5,10 @@
 //! the host build (debug and release, with the core's `std` feature), the core's own tests
 //! (without `std`) and the firmware under QEMU all have to reproduce them exactly.
 //!
-//! It lives with the core's tests so that they compile and pass from the published package;
-//! the host crate compiles it too (`#[path]`), so it uses nothing but `rotorid` and `alloc`.
+//! It lives with the core's tests so that they compile and pass from the published package
+//! (a support crate would be a path dev-dependency, which `cargo package` drops); the tests
+//! and benchmarks crate `host-tests` compiles it too (`#[path]`, tests → core's test support),
+//! so it uses nothing but `rotorid` and `alloc`.
 
 extern crate alloc;
 use alloc::format;
@@ -78,23 +80,7 @@ pub fn inputs(n: usize, seed: u64) -> Vec<HoverSample<f32>> {
 
 /// Converts the f32 inputs to another scalar (exact for f64).
 pub fn convert<T: Real>(s: &HoverSample<f32>) -> HoverSample<T> {
-    let c = |x: f32| T::lit(f64::from(x));
-    HoverSample {
-        time_us: s.time_us,
-        attitude: Attitude {
-            roll: c(s.attitude.roll),
-            pitch: c(s.attitude.pitch),
-            yaw: c(s.attitude.yaw),
-        },
-        velocity: s.velocity.map(c),
-        rates: s.rates.map(c),
-        controls: Controls {
-            col: c(s.controls.col),
-            ped: c(s.controls.ped),
-            lon: c(s.controls.lon),
-            lat: c(s.controls.lat),
-        },
-    }
+    s.cast()
 }
 
 fn hex<T: Real>(x: T) -> String {

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use rotorid::hover::RateStructure;
 
-use crate::experiments::ModelParameters;
+use crate::experiments::{ModelParameters, VariantResult};
 use crate::report::Metrics;
-use rotorid_sim::plant::{derivative, trim_hover, State, XCell60};
+use rotorid_sim::plant::{derivative, trim_hover, Airframe, Helicopter, State};
 
 /// The variant every other is measured against.
 pub const BASELINE: &str = "extended plain";
@@ -27,7 +27,7 @@ fn mark(ok: bool) -> &'static str {
     }
 }
 
-fn ratios(m: &Metrics, pick: impl Fn(&crate::experiments::VariantResult) -> [f64; 6]) -> String {
+fn ratios(m: &Metrics, pick: impl Fn(&VariantResult) -> [f64; 6]) -> String {
     let Some(base) = m.variants.iter().find(|v| v.name == BASELINE) else {
         return format!("(no `{BASELINE}` variant in the metrics)\n");
     };
@@ -43,15 +43,21 @@ fn ratios(m: &Metrics, pick: impl Fn(&crate::experiments::VariantResult) -> [f64
     s
 }
 
+/// The flight default's and the baseline's results: hover flight, hover baseline, envelope
+/// flight, envelope baseline.
+fn flight_and_baseline(hover: &Metrics, envelope: &Metrics) -> Option<[VariantResult; 4]> {
+    let find = |m: &Metrics, n: &str| m.variants.iter().find(|v| v.name == n).cloned();
+    Some([
+        find(hover, FLIGHT)?,
+        find(hover, BASELINE)?,
+        find(envelope, FLIGHT)?,
+        find(envelope, BASELINE)?,
+    ])
+}
+
 /// The criteria of the flight default, checked on the metrics.
 fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
-    let find = |m: &Metrics, n: &str| m.variants.iter().find(|v| v.name == n).cloned();
-    let (Some(hf), Some(hb), Some(ef), Some(eb)) = (
-        find(hover, FLIGHT),
-        find(hover, BASELINE),
-        find(envelope, FLIGHT),
-        find(envelope, BASELINE),
-    ) else {
+    let Some([hf, hb, ef, eb]) = flight_and_baseline(hover, envelope) else {
         return "(flight or baseline variant missing)\n".into();
     };
     let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
@@ -94,7 +100,7 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
 /// Rate derivatives of the plant at the hover trim state flown at `forward` m/s (body x):
 /// `[∂ω̇/∂ω (1/s), ∂ω̇/∂(speed) (deg/s² per m/s)]` for q, r, p, with the speed of each rate
 /// model's κ term (forward for q, rightward for r and p). Central differences, flapping held.
-fn plant_derivatives(params: &XCell60, forward: f64) -> Result<[[f64; 2]; 3], String> {
+fn plant_derivatives(params: &Helicopter, forward: f64) -> Result<[[f64; 2]; 3], String> {
     let trim = trim_hover(params, 0.0).map_err(|e| e.to_string())?;
     let pitch = params.blade_pitch(&trim.sticks);
     let mut at = trim.state;
@@ -144,11 +150,60 @@ fn identified(params: &[ModelParameters], period_s: f64) -> Option<Vec<[[f64; 2]
     Some(rules)
 }
 
-/// The section of docs/results.md on the flight default.
+/// The flight default against [`BASELINE`], state by state: the ratio of its error to the
+/// baseline's on the hover and envelope flights, each marked against its criterion (hover: at
+/// most [`HOVER_TOLERANCE`]; envelope free run: at most [`ENVELOPE_TARGET`]; the envelope's
+/// one-step ratio has no criterion).
+pub fn flight_by_state(hover: &Metrics, envelope: &Metrics) -> String {
+    let Some([hf, hb, ef, eb]) = flight_and_baseline(hover, envelope) else {
+        return "(flight or baseline variant missing)\n".into();
+    };
+    let cell = |a: f64, b: f64, limit: Option<f64>| {
+        let r = a / b;
+        match limit {
+            Some(l) => format!("{r:.2} {}", mark(r <= l)),
+            None => format!("{r:.2}"),
+        }
+    };
+    let mut s = String::from(
+        "| state | hover, one step | hover, free run | envelope, one step | envelope, free run |\n|---|---:|---:|---:|---:|\n"
+    );
+    let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
+    for (i, label) in labels.iter().enumerate() {
+        s += &format!(
+            "| {label} | {} | {} | {} | {} |\n",
+            cell(hf.one_step[i], hb.one_step[i], Some(HOVER_TOLERANCE)),
+            cell(hf.free_run[i], hb.free_run[i], Some(HOVER_TOLERANCE)),
+            cell(ef.one_step[i], eb.one_step[i], None),
+            cell(ef.free_run[i], eb.free_run[i], Some(ENVELOPE_TARGET)),
+        );
+    }
+    let misses = |a: &[f64; 6], b: &[f64; 6], limit: f64| {
+        let m: Vec<&str> = (0..6)
+            .filter(|&i| a[i] / b[i] > limit)
+            .map(|i| labels[i])
+            .collect();
+        if m.is_empty() {
+            "none".to_string()
+        } else {
+            m.join(", ")
+        }
+    };
+    s += &format!(
+        "\nMissed: hover one step on {}; hover free run on {}; envelope free run on {}.\n",
+        misses(&hf.one_step, &hb.one_step, HOVER_TOLERANCE),
+        misses(&hf.free_run, &hb.free_run, HOVER_TOLERANCE),
+        misses(&ef.free_run, &eb.free_run, ENVELOPE_TARGET),
+    );
+    s
+}
+
+/// The section of docs/results.md on the flight default, for the flights of `airframe`.
 pub fn flight_markdown(
     hover: &Metrics,
     envelope: &Metrics,
     envelope_dir: &Path,
+    airframe: Airframe,
 ) -> Result<String, String> {
     let mut s = String::new();
     s += "### Criteria\n\n";
@@ -171,12 +226,12 @@ pub fn flight_markdown(
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let period = 0.02;
     let learnt = identified(&params, period).ok_or("flight parameters: unexpected layout")?;
-    let plant = XCell60::default();
+    let plant = airframe.params();
     s += "\n### Why: what each speed region learnt\n\n";
     s += "Each rate model's rules are local linear models of their speed region. Identified \
           (per rule, physical units): the damping `δ/ΔT` (1/s) and the speed term `κ/ΔT` \
           (deg/s² per m/s of forward speed for q, of rightward speed for r and p). Plant: the \
-          partial derivatives of the X-Cell's angular acceleration at the hover trim flown \
+          partial derivatives of the plant's angular acceleration at the hover trim flown \
           at the rule's centre speed, with the rotor's flapping held (so they leave out the \
           flapping's own share of the damping, which the identified δ, with the \
           second-order term η, includes): they show how strongly the physics changes with \

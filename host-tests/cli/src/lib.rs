@@ -14,9 +14,3 @@ pub mod log;
 pub mod precision;
 pub mod report;
 pub mod results;
-
-// The core's golden support holds the one f32 → T sample conversion (`convert`) that
-// `precision` uses; the rest of it serves the tests.
-#[path = "../../../core/tests/support/golden.rs"]
-#[allow(dead_code)]
-mod golden;

@@ -1,4 +1,4 @@
-//! `rotorid`: simulate X-Cell 60 flights into the flight-log format, and identify hover
+//! `rotorid`: simulate X-Cell 60 (or `--plant flybarless600`) flights into the flight-log format, and identify hover
 //! models from flight logs (the paper's Table 4 and Figures 2–5 for your own data).
 //!
 //! ```text
@@ -20,9 +20,10 @@ use rotorid_cli::experiments::{self, ModelParameters, TABLE4_VARIANTS};
 use rotorid_cli::import;
 use rotorid_cli::log;
 use rotorid_cli::report::{self, Metrics, Table4};
+use rotorid_cli::results::SecondPlant;
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
-use rotorid_sim::plant::{simulate, verification_excitation, FlightConfig};
+use rotorid_sim::plant::{Airframe, FlightConfig};
 
 #[derive(Parser)]
 #[command(
@@ -48,9 +49,30 @@ enum Kind {
     EnvelopeVerification,
 }
 
+/// Which simulated helicopter (`rotorid_sim::plant::Airframe`).
+#[derive(Clone, Copy, Default, ValueEnum)]
+enum Plant {
+    /// The MIT X-Cell 60 (published parameters).
+    #[default]
+    Xcell60,
+    /// A flybarless 600-class helicopter (Froude-scaled X-Cell with a flybarless stiff-hub
+    /// rotor, higher head speed, larger tail rotor, slimmer canopy).
+    Flybarless600,
+}
+
+impl From<Plant> for Airframe {
+    fn from(p: Plant) -> Self {
+        match p {
+            Plant::Xcell60 => Airframe::XCell60,
+            Plant::Flybarless600 => Airframe::Flybarless600,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
-    /// Fly the X-Cell 60 simulator and write the flight log (CSV, docs/log-format.md).
+    /// Fly the helicopter simulator (X-Cell 60 by default) and write the flight log (CSV,
+    /// docs/log-format.md).
     Simulate {
         /// Flight kind.
         #[arg(long, value_enum)]
@@ -65,6 +87,9 @@ enum Command {
         /// No measurement noise and no turbulence (jitter stays).
         #[arg(long)]
         clean: bool,
+        /// Simulated helicopter; the pilot and the inputs are scaled to it.
+        #[arg(long, value_enum, default_value_t = Plant::Xcell60)]
+        plant: Plant,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -118,6 +143,16 @@ enum Command {
         /// metrics.json of the envelope run (its directory also holds params-flight.json).
         #[arg(long)]
         envelope: Option<PathBuf>,
+        /// The second plant whose runs `--second-hover` and `--second-envelope` are.
+        #[arg(long, value_enum, default_value_t = Plant::Flybarless600)]
+        second_plant: Plant,
+        /// metrics.json of the second plant's hover run.
+        #[arg(long, requires = "second_envelope")]
+        second_hover: Option<PathBuf>,
+        /// metrics.json of the second plant's envelope run (its directory also holds
+        /// params-flight.json).
+        #[arg(long, requires = "second_hover")]
+        second_envelope: Option<PathBuf>,
         /// Seconds the results script took to simulate and identify (for the doc).
         #[arg(long)]
         elapsed: Option<f64>,
@@ -135,8 +170,9 @@ fn main() -> ExitCode {
             seed,
             duration,
             clean,
+            plant,
             output,
-        } => run_simulate(kind, seed, duration, clean, &output),
+        } => run_simulate(kind, seed, duration, clean, plant.into(), &output),
         Command::Identify {
             train,
             verify,
@@ -159,9 +195,24 @@ fn main() -> ExitCode {
             realistic,
             clean,
             envelope,
+            second_plant,
+            second_hover,
+            second_envelope,
             elapsed,
             output,
-        } => run_report(&realistic, &clean, envelope.as_deref(), elapsed, &output),
+        } => {
+            let second = second_hover
+                .zip(second_envelope)
+                .map(|(h, e)| (second_plant.into(), h, e));
+            run_report(
+                &realistic,
+                &clean,
+                envelope.as_deref(),
+                second,
+                elapsed,
+                &output,
+            )
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -177,6 +228,7 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     clean: bool,
+    airframe: Airframe,
     output: &Path,
 ) -> Result<(), String> {
     if let Some(d) = duration {
@@ -192,27 +244,23 @@ fn run_simulate(
             ));
         }
     }
-    let samples = match (kind, clean) {
-        (Kind::Identification, false) => {
-            flights::identification_flight_for(seed, duration.unwrap_or(f64::INFINITY))
+    let sensors = if clean {
+        FlightConfig::default()
+    } else {
+        FlightConfig::realistic(seed, 0.0)
+    };
+    let config = FlightConfig { seed, ..sensors }
+        .for_airframe(airframe)
+        .map_err(|e| format!("plant {}: {e}", airframe.name()))?;
+    let samples = match kind {
+        Kind::Identification => {
+            flights::identification_flight_with(&config, duration.unwrap_or(f64::INFINITY))
         }
-        (Kind::Identification, true) => flights::identification_flight_with(
-            &clean_config(seed),
-            duration.unwrap_or(f64::INFINITY),
-        ),
-        (Kind::Verification, clean) => {
-            let d = duration.unwrap_or(120.0);
-            let config = if clean {
-                FlightConfig {
-                    duration: d,
-                    ..clean_config(seed)
-                }
-            } else {
-                FlightConfig::realistic(seed, d)
-            };
-            simulate(&config, &mut verification_excitation(seed, d))
-        }
-        (Kind::Envelope | Kind::EnvelopeVerification, clean) => {
+        Kind::Verification => flights::verification_flight_with(&FlightConfig {
+            duration: duration.unwrap_or(120.0),
+            ..config
+        }),
+        Kind::Envelope | Kind::EnvelopeVerification => {
             let kind = match kind {
                 Kind::Envelope => EnvelopeKind::Identification,
                 _ => EnvelopeKind::Verification,
@@ -220,11 +268,6 @@ fn run_simulate(
             if duration.is_some() {
                 return Err("--duration does not apply to envelope flights (their length is their schedule's)".into());
             }
-            let config = if clean {
-                clean_config(seed)
-            } else {
-                FlightConfig::realistic(seed, 0.0)
-            };
             envelope::envelope_flight_with(&config, kind)
         }
     }
@@ -237,13 +280,6 @@ fn run_simulate(
         output.display()
     );
     Ok(())
-}
-
-fn clean_config(seed: u64) -> FlightConfig {
-    FlightConfig {
-        seed,
-        ..FlightConfig::default()
-    }
 }
 
 /// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:
@@ -406,6 +442,7 @@ fn run_report(
     realistic: &Path,
     clean: &Path,
     envelope: Option<&Path>,
+    second: Option<(Airframe, PathBuf, PathBuf)>,
     elapsed: Option<f64>,
     output: &Path,
 ) -> Result<(), String> {
@@ -417,10 +454,26 @@ fn run_report(
         Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
         None => None,
     };
+    let second = match second {
+        Some((airframe, hover, envelope)) => {
+            let dir = envelope.parent().unwrap_or(Path::new(".")).to_path_buf();
+            Some((airframe, load(&hover)?, load(&envelope)?, dir))
+        }
+        None => None,
+    };
+    let second = second
+        .as_ref()
+        .map(|(airframe, hover, envelope, dir)| SecondPlant {
+            airframe: *airframe,
+            hover,
+            envelope,
+            envelope_dir: dir,
+        });
     let md = rotorid_cli::results::results_markdown(
         &load(realistic)?,
         &load(clean)?,
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),
+        second.as_ref(),
         elapsed,
     )?;
     std::fs::write(output, md).map_err(|e| format!("{}: {e}", output.display()))

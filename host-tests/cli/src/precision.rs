@@ -7,8 +7,6 @@ use rotorid::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::golden::convert;
-
 /// Parameters counted as well excited: posterior variance below this share of the prior α.
 pub const WELL_EXCITED: f64 = 1e-5;
 /// Parameters whose magnitude is below this share of their model's largest are not compared
@@ -100,7 +98,7 @@ where
     for log in logs {
         let mut chained = false;
         for s in log {
-            let s = convert::<T>(s);
+            let s = s.cast::<T>();
             if !chained || id.step(&s).is_err() {
                 chained = id.resume(&s).is_ok();
             }

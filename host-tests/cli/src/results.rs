@@ -1,18 +1,146 @@
 //! `docs/results.md`: the hover report ([`crate::report`]) and the flight report
 //! ([`crate::flight_report`]) in one document. Above both, so that neither depends on the other.
 
+use std::path::Path;
+
+use rotorid_sim::plant::{trim_hover, Airframe};
+
+use crate::flight_report::{flight_by_state, flight_markdown};
 use crate::report::*;
 
-/// docs/results.md from the realistic and the clean run. Every number comes from the metrics.
+/// The runs of the second plant: its hover pair's metrics and its envelope pair's (with the
+/// directory of the latter, which holds params-flight.json).
+pub struct SecondPlant<'a> {
+    /// Which airframe was flown.
+    pub airframe: Airframe,
+    /// metrics.json of the hover identification/verification pair.
+    pub hover: &'a Metrics,
+    /// metrics.json of the envelope pair.
+    pub envelope: &'a Metrics,
+    /// Directory of the envelope run.
+    pub envelope_dir: &'a Path,
+}
+
+/// The airframes side by side: the parameters that differ and what follows from them (trim
+/// collective, flapping time constant, stick scaling), all from `rotorid_sim`.
+fn airframes_markdown(airframes: &[Airframe]) -> Result<String, String> {
+    let mut rows: Vec<(String, Vec<String>)> = Vec::new();
+    let mut push = |name: &str, cells: Vec<String>| rows.push((name.to_string(), cells));
+    let params: Vec<_> = airframes.iter().map(|a| a.params()).collect();
+    let col = |f: &dyn Fn(&rotorid_sim::plant::Helicopter) -> String| -> Vec<String> {
+        params.iter().map(f).collect()
+    };
+    push("mass (kg)", col(&|p| format!("{:.2}", p.mass)));
+    push(
+        "inertia I_xx, I_yy, I_zz (kg·m²)",
+        col(&|p| format!("{:.3}, {:.3}, {:.3}", p.ixx, p.iyy, p.izz)),
+    );
+    push(
+        "rotor radius R (m)",
+        col(&|p| format!("{:.3}", p.main.radius)),
+    );
+    push("head speed Ω (rad/s)", col(&|p| format!("{:.1}", p.omega)));
+    push(
+        "flapping Lock number γ (bar or blades)",
+        col(&|p| format!("{:.2}", p.gamma_fb)),
+    );
+    push(
+        "flapping time constant τ_e (s)",
+        col(&|p| format!("{:.3}", p.tau_e())),
+    );
+    push(
+        "cyclic-to-flapping gain A_lon = B_lat",
+        col(&|p| format!("{:.1}", p.a_lon)),
+    );
+    push(
+        "cyclic throw at full stick (rad)",
+        col(&|p| format!("{:.3}", p.sticks.lon_gain)),
+    );
+    push(
+        "hub stiffness K_β (N·m/rad)",
+        col(&|p| format!("{:.1}", p.k_beta)),
+    );
+    push("speed flapping K_μ", col(&|p| format!("{:.1}", p.k_mu)));
+    push(
+        "tail rotor radius (m)",
+        col(&|p| format!("{:.3}", p.tail.radius)),
+    );
+    push("fuselage S_x (m²)", col(&|p| format!("{:.3}", p.fus_sx)));
+    let mut trims = Vec::new();
+    let mut scales = Vec::new();
+    for (a, p) in airframes.iter().zip(&params) {
+        let t = trim_hover(p, 0.0).map_err(|e| format!("{}: {e}", a.name()))?;
+        trims.push(format!("{:.3}, {:.3}", t.sticks.col, t.sticks.ped));
+        let k = a.stick_scale().map_err(|e| format!("{}: {e}", a.name()))?;
+        scales.push(format!(
+            "{:.2}, {:.2}, {:.2}, {:.2}",
+            k.col, k.ped, k.lon, k.lat
+        ));
+    }
+    push("hover trim u_col, u_ped", trims);
+    push("stick scale col, ped, lon, lat", scales);
+    let mut s = format!(
+        "| | {} |\n|---|{}\n",
+        airframes
+            .iter()
+            .map(|a| a.title())
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---:|".repeat(airframes.len())
+    );
+    for (name, cells) in rows {
+        s += &format!("| {name} | {} |\n", cells.join(" | "));
+    }
+    Ok(s)
+}
+
+/// The section on the second plant: the airframes side by side, then the flight default's
+/// state-by-state verdict and the same evidence as the X-Cell's ([`flight_markdown`]).
+pub fn second_plant_markdown(second: &SecondPlant<'_>) -> Result<String, String> {
+    let mut template = include_str!("report_second_plant.md").to_string();
+    let subs = [
+        ("{{TITLE}}", second.airframe.title().to_string()),
+        ("{{NAME}}", second.airframe.name().to_string()),
+        (
+            "{{AIRFRAMES}}",
+            airframes_markdown(&[Airframe::XCell60, second.airframe])?,
+        ),
+        (
+            "{{BY_STATE}}",
+            flight_by_state(second.hover, second.envelope),
+        ),
+        (
+            "{{FLIGHT}}",
+            flight_markdown(
+                second.hover,
+                second.envelope,
+                second.envelope_dir,
+                second.airframe,
+            )?,
+        ),
+    ];
+    for (k, v) in subs {
+        template = template.replace(k, &v);
+    }
+    Ok(template)
+}
+
+/// docs/results.md from the realistic and the clean run (and, if given, the envelope run and
+/// the second plant's runs). Every number comes from the metrics.
 pub fn results_markdown(
     realistic: &Metrics,
     clean: &Metrics,
-    envelope: Option<(&Metrics, &std::path::Path)>,
+    envelope: Option<(&Metrics, &Path)>,
+    second: Option<&SecondPlant<'_>>,
     elapsed_s: Option<f64>,
 ) -> Result<String, String> {
     let flight = match envelope {
-        Some((m, dir)) => crate::flight_report::flight_markdown(realistic, m, dir)?,
+        Some((m, dir)) => flight_markdown(realistic, m, dir, Airframe::XCell60)?,
         None => "(not run: `rotorid report` was given no `--envelope` metrics)\n".to_string(),
+    };
+    let second_plant = match second {
+        Some(p) => second_plant_markdown(p)?,
+        None => "(not run: `rotorid report` was given no second plant's metrics)\n".to_string(),
     };
     let t = realistic
         .table4
@@ -29,6 +157,7 @@ pub fn results_markdown(
     let mut template = include_str!("report_results.md").to_string();
     let subs: Vec<(&str, String)> = vec![
         ("{{FLIGHT}}", flight),
+        ("{{SECOND_PLANT}}", second_plant),
         ("{{TABLE4}}", table4_markdown(t)),
         ("{{TABLE4_CLEAN}}", table4_markdown(tc)),
         ("{{VARIANTS}}", variants_markdown(realistic)),

@@ -456,3 +456,47 @@ fn identification_duration_beyond_the_sweeps_is_an_error_not_a_silent_clamp() {
     assert!(err.contains("lasts") && err.contains("999"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--plant` picks the airframe for every kind: the flybarless 600 starts at its own trim, and
+/// `--plant xcell60` is the default, bit for bit.
+#[test]
+fn plant_option_flies_the_chosen_airframe() {
+    let dir = tmpdir("plant");
+    let fly = |plant: Option<&str>, kind: &str, name: &str| {
+        let out = dir.join(name);
+        let mut cmd = bin();
+        cmd.args(["simulate", "--kind", kind, "--seed", "3"]);
+        if kind.starts_with("identification") || kind == "verification" {
+            cmd.args(["--duration", "2"]);
+        }
+        if let Some(p) = plant {
+            cmd.args(["--plant", p]);
+        }
+        let o = run(cmd.arg("-o").arg(&out));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        std::fs::read_to_string(&out).expect("log")
+    };
+    let first_col = |log: &str| -> f64 {
+        let row = log.lines().nth(1).expect("a sample");
+        row.split(',')
+            .nth(1)
+            .expect("u_col")
+            .parse()
+            .expect("number")
+    };
+    let fbl =
+        rotorid_sim::plant::trim_hover(&rotorid_sim::plant::Helicopter::flybarless_600(), 0.0)
+            .expect("trims");
+    for kind in ["identification", "verification", "envelope-verification"] {
+        let default = fly(None, kind, &format!("{kind}-default.csv"));
+        let xcell = fly(Some("xcell60"), kind, &format!("{kind}-xcell.csv"));
+        assert_eq!(default, xcell, "{kind}");
+        let second = fly(Some("flybarless600"), kind, &format!("{kind}-fbl.csv"));
+        assert_eq!(first_col(&second), fbl.sticks.col, "{kind}");
+        assert!(
+            (first_col(&default) - fbl.sticks.col).abs() > 0.05,
+            "{kind}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -11,7 +11,7 @@
 //!
 //! * [`EnvelopeKind::Identification`] (seed 1 in the reports) and
 //!   [`EnvelopeKind::Verification`] (seed 2) fly different set-point schedules and different
-//!   manoeuvres (the same generator as the hover verification flight, [`verification_excitation`]).
+//!   manoeuvres (the same generator as the hover verification flight, [`crate::plant::verification_excitation`]).
 //! * The set-points are in the heading frame, `[forward, right, down]` (m/s), ramped at
 //!   1 m/s² (horizontal) and 0.5 m/s² (vertical); each is held for [`DWELL_S`] seconds.
 //! * The hover-hold pilot flies all four channels around its set-point, with slow integrators
@@ -19,7 +19,7 @@
 //!   proportional); a manoeuvre is added to the pilot's command on its channel.
 
 use crate::plant::{
-    verification_excitation, Flight, FlightConfig, HoverPilot, PlantError, SensorSample,
+    verification_excitation_scaled, Flight, FlightConfig, HoverPilot, PlantError, SensorSample,
 };
 
 /// Seconds each operating point is flown (ramp included).
@@ -95,10 +95,14 @@ pub fn envelope_flight_with(
     };
     let period = 1.0 / config.sample_rate;
     let n = (duration * config.sample_rate + 1e-9).floor() as u64;
-    let mut excitation = verification_excitation(config.seed, duration);
+    let mut excitation = verification_excitation_scaled(config.seed, duration, config.stick_scale);
     let mut flight = Flight::new(&config)?;
     let trim = *flight.trim();
-    let mut pilot = HoverPilot::new(config.gains, &trim.state);
+    let mut pilot = HoverPilot::new(config.pilot_gains(), &trim.state);
+    // The collective's trim integrator works in stick units: scaled like the pilot.
+    let col_scale = config.stick_scale.col;
+    let trim_gains = [TRIM_GAINS[0], TRIM_GAINS[1], TRIM_GAINS[2] * col_scale];
+    let trim_limits = [TRIM_LIMITS[0], TRIM_LIMITS[1], TRIM_LIMITS[2] * col_scale];
     let points = operating_points(kind);
     let mut reference = [0.0f64; 3];
     let mut out = Vec::with_capacity(n as usize);
@@ -125,7 +129,7 @@ pub fn envelope_flight_with(
             .offsets
             .iter_mut()
             .zip(errors.iter())
-            .zip(TRIM_GAINS.iter().zip(TRIM_LIMITS.iter()))
+            .zip(trim_gains.iter().zip(trim_limits.iter()))
         {
             *o = (*o + gain * e * period).clamp(-limit, limit);
         }

@@ -20,8 +20,8 @@ use rotorid::hover::{Attitude, Controls, HoverSample};
 use rotorid::sweep::{Channel as SweepChannel, Sweep, SweepSchedule};
 
 use crate::plant::{
-    simulate, verification_excitation, Channel, Flight, FlightConfig, HoverPilot, PilotGains,
-    PlantError, SensorSample,
+    simulate, verification_excitation_scaled, Channel, Flight, FlightConfig, HoverPilot,
+    PilotGains, PlantError, SensorSample,
 };
 
 /// Sample rate of every flight (Hz); the identifiers' ΔT is 20 ms.
@@ -129,8 +129,9 @@ pub fn identification_flight_with(
     let n = if n > 0.0 { n as u32 } else { 0 };
     let mut flight = Flight::new(&config)?;
     let trim = *flight.trim();
-    let mut pilot = HoverPilot::new(config.gains, &trim.state);
-    let mut slow_pilot = HoverPilot::new(slow_gains(&config.gains), &trim.state);
+    let gains = config.pilot_gains();
+    let mut pilot = HoverPilot::new(gains, &trim.state);
+    let mut slow_pilot = HoverPilot::new(slow_gains(&gains), &trim.state);
     let mut out = Vec::with_capacity(n as usize);
     for k in 0..n {
         let state = *flight.state();
@@ -139,7 +140,7 @@ pub fn identification_flight_with(
                 let ch = plant_channel(e.channel);
                 let mut sticks = pilot.command(&state, &trim, Some(ch), 0.0);
                 let slow = slow_pilot.command(&state, &trim, None, 0.0);
-                sticks.set(ch, slow.get(ch) + e.offset);
+                sticks.set(ch, slow.get(ch) + e.offset * config.stick_scale.get(ch));
                 sticks
             }
             None => pilot.command(&state, &trim, None, 0.0),
@@ -173,12 +174,18 @@ fn slow_gains(g: &PilotGains) -> PilotGains {
 
 /// A verification flight of `duration_s` seconds: after 3 s of hover, doublets and 3-2-1-1
 /// multisteps on all four controls (one in four a large excursion) separated by 2.5–5 s of
-/// pilot-held hover ([`verification_excitation`]); realistic sensors from `seed`. Use a seed
+/// pilot-held hover ([`crate::plant::verification_excitation`]); realistic sensors from `seed`. Use a seed
 /// other than the identification flight's.
 pub fn verification_flight(seed: u64, duration_s: f64) -> Result<Vec<SensorSample>, PlantError> {
-    let config = FlightConfig::realistic(seed, duration_s);
-    let mut excitation = verification_excitation(seed, duration_s);
-    simulate(&config, &mut excitation)
+    verification_flight_with(&FlightConfig::realistic(seed, duration_s))
+}
+
+/// [`verification_flight`] with any flight configuration (its seed, duration, airframe and
+/// sensors); the manoeuvres are scaled by its [`FlightConfig::stick_scale`].
+pub fn verification_flight_with(config: &FlightConfig) -> Result<Vec<SensorSample>, PlantError> {
+    let mut excitation =
+        verification_excitation_scaled(config.seed, config.duration, config.stick_scale);
+    simulate(config, &mut excitation)
 }
 
 /// A sample in the paper's axes and units through [`NedFrdSample::to_paper`]:

@@ -1,4 +1,5 @@
-//! X-Cell 60 simulator: the rigid-body plant with its rotor, the hover-hold pilot, GPS/INS-like
+//! Helicopter simulator: the rigid-body plant with its rotor (the X-Cell 60 and a second,
+//! flybarless 600-class airframe: [`plant::Airframe`]), the hover-hold pilot, GPS/INS-like
 //! sensors, and the paper's flights flown on it (the Table 2 identification sweeps, the
 //! verification flight, the envelope flights) as logs in the paper's axes.
 //!

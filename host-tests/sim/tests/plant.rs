@@ -1,19 +1,14 @@
 //! Tests of the X-Cell 60 plant simulator: trim figures, trim balance, sign conventions,
 //! response symmetry, reproducibility, pilot-held hover, verification flight, errors.
 
+mod common;
+
+use common::{max_abs, rel_err};
 use nalgebra::Vector3;
 use rotorid_sim::plant::*;
 
 fn trim() -> HoverTrim {
     trim_hover(&XCell60::default(), 0.0).expect("trim converges")
-}
-
-fn rel_err(x: f64, reference: f64) -> f64 {
-    (x - reference).abs() / reference.abs()
-}
-
-fn max_abs(s: &[SensorSample], f: impl Fn(&SensorSample) -> f64) -> f64 {
-    s.iter().map(|x| f(x).abs()).fold(0.0, f64::max)
 }
 
 /// The spec's hover sanity figures. Tolerances:
@@ -154,34 +149,7 @@ fn control_signs() {
 /// stay around 1 % of the rate; 3 % of the peak is the bound.
 #[test]
 fn opposite_doublets_give_opposite_rates() {
-    for (ch, rate) in [
-        (
-            Channel::Lon,
-            (|s: &SensorSample| s.q) as fn(&SensorSample) -> f64,
-        ),
-        (Channel::Lat, |s: &SensorSample| s.p),
-    ] {
-        let fly = |a: f64| {
-            simulate(&FlightConfig::ideal(1.0), &mut |_, t| {
-                Excitation::on(ch, if t < 0.5 { a } else { -a })
-            })
-            .expect("bounded")
-        };
-        let plus = fly(0.2);
-        let minus = fly(-0.2);
-        let early: Vec<(f64, f64)> = plus
-            .iter()
-            .zip(&minus)
-            .filter(|(s, _)| s.t <= 0.2 + 1e-9)
-            .map(|(a, b)| (rate(a), rate(b)))
-            .collect();
-        assert_eq!(early.len(), 11);
-        let peak = early.iter().map(|(a, _)| a.abs()).fold(0.0, f64::max);
-        assert!(peak > 0.1, "{ch:?} peak {peak}");
-        for (a, b) in &early {
-            assert!((a + b).abs() <= 0.03 * peak, "{ch:?}: {a} vs {b}");
-        }
-    }
+    common::assert_opposite_doublets_give_opposite_rates(&FlightConfig::ideal(1.0), 0.2, 0.2);
 }
 
 fn realistic_flight(seed: u64, seconds: f64) -> Vec<SensorSample> {
@@ -413,58 +381,26 @@ fn flight_stepper_with_own_sticks() {
     assert!(f.state().omega.amax() < 1e-9);
 }
 
-/// `∂(ω̇_i)/∂x` by central differences at `state` (trim sticks, still air), where `perturb`
-/// moves one state component by `h`.
-fn derivative_of_rate(
-    state: &rotorid_sim::plant::State,
-    axis: usize,
-    h: f64,
-    perturb: impl Fn(&mut rotorid_sim::plant::State, f64),
-) -> f64 {
-    let t = trim();
-    let p = rotorid_sim::plant::XCell60::default();
-    let pitch = p.blade_pitch(&t.sticks);
-    let eval = |d: f64| {
-        let mut s = *state;
-        perturb(&mut s, d);
-        rotorid_sim::plant::derivative(&p, &s, &pitch, &nalgebra::Vector3::zeros())
-            .0
-            .omega[axis]
-    };
-    (eval(h) - eval(-h)) / (2.0 * h)
+/// The envelope flight reaches its level and hover operating points
+/// ([`common::assert_envelope_reaches_level_points`]).
+#[test]
+fn envelope_flight_reaches_its_operating_points() {
+    common::assert_envelope_reaches_level_points(&FlightConfig::realistic(1, 0.0));
 }
 
 /// The wide-envelope flights are only worth flying if the local dynamics change across the
 /// envelope: the damping and speed derivatives at 10 m/s forward differ from hover's.
 #[test]
 fn local_dynamics_differ_between_hover_and_ten_metres_per_second() {
-    let hover = trim().state;
-    let mut fast = hover;
-    fast.vel_body.x = 10.0;
-    // [p, q, r] indices of ω.
-    let (p, q, r) = (0, 1, 2);
-    let damping = |s: &rotorid_sim::plant::State, axis: usize| {
-        derivative_of_rate(s, axis, 1e-3, |s, d| s.omega[axis] += d)
-    };
-    let side = |s: &rotorid_sim::plant::State, axis: usize| {
-        derivative_of_rate(s, axis, 1e-3, |s, d| s.vel_body.y += d)
-    };
-    let (n_r0, n_r10) = (damping(&hover, r), damping(&fast, r));
-    let (n_v0, n_v10) = (side(&hover, r), side(&fast, r));
-    let (m_q0, m_q10) = (damping(&hover, q), damping(&fast, q));
-    let (l_p0, l_p10) = (damping(&hover, p), damping(&fast, p));
-    eprintln!("N_r {n_r0:.3} -> {n_r10:.3} /s, N_v {n_v0:.3} -> {n_v10:.3} rad/(m s), M_q {m_q0:.3} -> {m_q10:.3}, L_p {l_p0:.3} -> {l_p10:.3}");
+    let d = common::local_derivatives_hover_and_10_mps(&XCell60::default());
+    eprintln!("{d:?}");
     // Damping is negative (stable) at both points, and every derivative here grows by at
     // least half from hover to 10 m/s: the fin's yaw damping and weathercock stiffness with
     // the dynamic pressure, the stabiliser's pitch damping, the disc's roll damping (with the
     // flapping held, the body's own share).
-    assert!(n_r0 < 0.0 && m_q0 < 0.0 && l_p0 < 0.0);
-    for (name, at0, at10) in [
-        ("N_r", n_r0, n_r10),
-        ("N_v", n_v0, n_v10),
-        ("M_q", m_q0, m_q10),
-        ("L_p", l_p0, l_p10),
-    ] {
+    let [n_r, _, m_q, l_p] = d;
+    assert!(n_r.1 < 0.0 && m_q.1 < 0.0 && l_p.1 < 0.0);
+    for (name, at0, at10) in d {
         assert!(
             at10.abs() > 1.5 * at0.abs(),
             "{name}: {at0} at hover, {at10} at 10 m/s"

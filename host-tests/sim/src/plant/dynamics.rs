@@ -14,11 +14,11 @@
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
-use super::params::XCell60;
+use super::params::Helicopter;
 use super::rotor::{solve_rotor, RotorSolution};
 use super::Sticks;
 
-/// Blade pitch commands (rad) produced from the sticks by [`XCell60::blade_pitch`].
+/// Blade pitch commands (rad) produced from the sticks by [`Helicopter::blade_pitch`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct BladePitch {
     /// Main-rotor collective pitch `θ0` (rad).
@@ -31,8 +31,8 @@ pub struct BladePitch {
     pub delta_lat: f64,
 }
 
-impl XCell60 {
-    /// Maps sticks (clamped to [−1, 1] first) to blade pitch with [`XCell60::sticks`].
+impl Helicopter {
+    /// Maps sticks (clamped to [−1, 1] first) to blade pitch with [`Helicopter::sticks`].
     pub fn blade_pitch(&self, sticks: &Sticks) -> BladePitch {
         let s = sticks.clamped();
         let m = &self.sticks;
@@ -151,7 +151,7 @@ fn fin_force(rho: f64, area: f64, lift_slope: f64, v_t: f64, v_n: f64) -> f64 {
 /// State derivative of the nonlinear model for blade pitch `pitch` held over the step and a
 /// wind (gust) velocity `wind_ned` (m/s, NED, air motion over the ground).
 pub fn derivative(
-    p: &XCell60,
+    p: &Helicopter,
     s: &State,
     pitch: &BladePitch,
     wind_ned: &Vector3<f64>,
@@ -262,7 +262,7 @@ pub fn derivative(
 /// One classical RK4 step of length `dt` (s) with blade pitch and wind held over the step.
 /// The quaternion is renormalised at every stage and at the end.
 pub fn rk4_step(
-    p: &XCell60,
+    p: &Helicopter,
     s: &State,
     pitch: &BladePitch,
     wind_ned: &Vector3<f64>,

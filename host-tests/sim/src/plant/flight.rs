@@ -6,11 +6,11 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::rk4_step;
-use super::params::XCell60;
+use super::params::Helicopter;
 use super::pilot::{HoverPilot, PilotGains};
 use super::sensors::{jitter_steps, measure, Gust, NoiseStd, SensorSample, Turbulence};
 use super::trim::{trim_hover, HoverTrim};
-use super::{Channel, PlantError, State, Sticks};
+use super::{Airframe, Channel, PlantError, State, StickScale, Sticks};
 
 /// ChaCha stream numbers: each random source has its own stream of the seed, so turning one
 /// option on or off does not change the others' draws.
@@ -70,9 +70,13 @@ impl Default for Limits {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FlightConfig {
     /// Vehicle parameters.
-    pub params: XCell60,
-    /// Pilot gains.
+    pub params: Helicopter,
+    /// Pilot gains, as designed on the X-Cell 60; the pilot flies them scaled by
+    /// `stick_scale` ([`FlightConfig::pilot_gains`]).
     pub gains: PilotGains,
+    /// Stick scaling of the pilot and of the excitation for `params` relative to the X-Cell 60
+    /// ([`Airframe::stick_scale`]); all ones by default.
+    pub stick_scale: StickScale,
     /// Seed of every random source.
     pub seed: u64,
     /// Flight length (s); `floor(duration · sample_rate)` samples are recorded.
@@ -98,8 +102,9 @@ pub struct FlightConfig {
 impl Default for FlightConfig {
     fn default() -> Self {
         Self {
-            params: XCell60::default(),
+            params: Helicopter::default(),
             gains: PilotGains::default(),
+            stick_scale: StickScale::default(),
             seed: 0,
             duration: 60.0,
             sample_rate: 50.0,
@@ -132,6 +137,21 @@ impl FlightConfig {
             jitter: 0.0,
             ..Self::default()
         }
+    }
+
+    /// This configuration flying `airframe`: its parameters and stick scaling.
+    pub fn for_airframe(self, airframe: Airframe) -> Result<Self, PlantError> {
+        Ok(Self {
+            params: airframe.params(),
+            stick_scale: airframe.stick_scale()?,
+            ..self
+        })
+    }
+
+    /// The gains the pilot flies: [`FlightConfig::gains`] scaled by
+    /// [`FlightConfig::stick_scale`].
+    pub fn pilot_gains(&self) -> PilotGains {
+        self.gains.scaled(&self.stick_scale)
     }
 
     /// Checks the configuration; returns `(steps per sample, jitter steps, samples)`.
@@ -227,7 +247,7 @@ impl Flight {
             config: *config,
             trim,
             state: trim.state,
-            pilot: HoverPilot::new(config.gains, &trim.state),
+            pilot: HoverPilot::new(config.pilot_gains(), &trim.state),
             period,
             max_jitter,
             k: 0,
@@ -434,6 +454,16 @@ fn ranges(ch: Channel) -> ManoeuvreRanges {
 /// 2.5–5 s of pilot-held hover so the helicopter settles into a new hover state, as in the
 /// paper's verification flight. Nothing starts that would not finish 2 s before `duration`.
 pub fn verification_excitation(seed: u64, duration: f64) -> impl FnMut(u64, f64) -> Excitation {
+    verification_excitation_scaled(seed, duration, StickScale::default())
+}
+
+/// [`verification_excitation`] for another airframe: each manoeuvre's amplitude multiplied by
+/// its channel's factor in `scale` (the plan, widths and timing are the same).
+pub fn verification_excitation_scaled(
+    seed: u64,
+    duration: f64,
+    scale: StickScale,
+) -> impl FnMut(u64, f64) -> Excitation {
     let mut rng = rng(seed, STREAM_VERIFICATION);
     let mut plan: Vec<Manoeuvre> = Vec::new();
     let mut t = 3.0;
@@ -467,7 +497,7 @@ pub fn verification_excitation(seed: u64, duration: f64) -> impl FnMut(u64, f64)
                 channel: ch,
                 shape,
                 unit: rng.random_range(wlo..=whi),
-                amplitude: sign * magnitude,
+                amplitude: sign * magnitude * scale.get(ch),
             };
             if !(duration.is_finite() && m.start + m.length() + 2.0 <= duration) {
                 break 'rounds;

@@ -3,7 +3,8 @@
 //! A nonlinear six-degree-of-freedom model of a miniature helicopter after Gavrilets, Mettler
 //! and Feron (AIAA 2001-4333), as specified in `shared/plant/xcell60.md`:
 //!
-//! * [`params`]: the published parameters ([`XCell60`]) and the stick map ([`StickMap`]);
+//! * [`airframe`]: the airframes ([`Airframe`]) and the stick scaling between them;
+//! * [`params`]: the published parameters ([`Helicopter`], the X-Cell 60 by default, and the second airframe) and the stick map ([`StickMap`]);
 //! * [`rotor`]: blade-element thrust with momentum inflow (main and tail rotor);
 //! * [`dynamics`]: forces, moments, the state derivative and an RK4 step;
 //! * [`trim`]: the hover trim solver ([`trim_hover`]);
@@ -19,6 +20,7 @@
 //! streams for jitter, measurement noise and turbulence, so the same seed gives the same
 //! samples bit for bit.
 
+pub mod airframe;
 pub mod dynamics;
 pub mod flight;
 pub mod params;
@@ -29,9 +31,13 @@ pub mod trim;
 
 use serde::{Deserialize, Serialize};
 
+pub use airframe::{steady_response_per_stick, Airframe, StickScale};
 pub use dynamics::{derivative, rk4_step, Aero, BladePitch, State, StateDot};
-pub use flight::{simulate, verification_excitation, Excitation, Flight, FlightConfig, Limits};
-pub use params::{RotorBlades, StickMap, XCell60};
+pub use flight::{
+    simulate, verification_excitation, verification_excitation_scaled, Excitation, Flight,
+    FlightConfig, Limits,
+};
+pub use params::{Helicopter, RotorBlades, StickMap, XCell60};
 pub use pilot::{HoverPilot, PilotGains};
 pub use rotor::{solve_rotor, RotorSolution};
 pub use sensors::{NoiseStd, SensorSample, Turbulence};

@@ -1,7 +1,10 @@
-//! Physical parameters of the X-Cell 60 class helicopter and the stick-to-blade-pitch map.
+//! Physical parameters of a miniature helicopter of the Gavrilets model family
+//! ([`Helicopter`]) and the stick-to-blade-pitch map.
 //!
-//! Values are the published MIT X-Cell 60 figures (Gavrilets, Mettler, Feron, AIAA 2001-4333;
-//! Gavrilets, Handbook of UAVs 2015) as listed in `shared/plant/xcell60.md`. All SI.
+//! [`Helicopter::default`] (alias [`XCell60`]) is the published MIT X-Cell 60 (Gavrilets,
+//! Mettler, Feron, AIAA 2001-4333; Gavrilets, Handbook of UAVs 2015) as listed in
+//! `shared/plant/xcell60.md`; [`Helicopter::flybarless_600`] is the second plant, derived from
+//! it (see there). All SI.
 
 use serde::{Deserialize, Serialize};
 
@@ -36,9 +39,12 @@ impl RotorBlades {
     }
 }
 
-/// X-Cell 60 parameters (SI units). [`Default`] gives the published values.
+/// The X-Cell 60: [`Helicopter::default`], the published parameters.
+pub type XCell60 = Helicopter;
+
+/// Parameters of one helicopter (SI units). [`Default`] gives the published X-Cell 60 values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct XCell60 {
+pub struct Helicopter {
     /// Mass `m` (kg).
     pub mass: f64,
     /// Roll moment of inertia `I_xx` (kg·m²), body FRD.
@@ -61,7 +67,8 @@ pub struct XCell60 {
     /// Main-rotor hub height above the CG `h_mr` (m).
     pub h_mr: f64,
 
-    /// Stabiliser-bar Lock number `γ_fb` (–); sets `τ_e = 16 / (γ_fb Ω)`.
+    /// Lock number of what sets the flapping speed, `γ_fb` (–): the stabiliser bar's on a
+    /// flybarred rotor, the blades' on a flybarless one; sets `τ_e = 16 / (γ_fb Ω)`.
     pub gamma_fb: f64,
     /// Longitudinal cyclic-to-flapping gain `A_lon` (rad/rad).
     pub a_lon: f64,
@@ -106,7 +113,7 @@ pub struct XCell60 {
     pub sticks: StickMap,
 }
 
-impl Default for XCell60 {
+impl Default for Helicopter {
     fn default() -> Self {
         Self {
             mass: 8.2,
@@ -160,8 +167,8 @@ impl Default for XCell60 {
     }
 }
 
-impl XCell60 {
-    /// Effective flapping time constant `τ_e = 16 / (γ_fb Ω)` (s), ≈ 0.12 s.
+impl Helicopter {
+    /// Effective flapping time constant `τ_e = 16 / (γ_fb Ω)` (s), ≈ 0.12 s on the X-Cell.
     pub fn tau_e(&self) -> f64 {
         16.0 / (self.gamma_fb * self.omega)
     }
@@ -196,7 +203,7 @@ pub struct StickMap {
     pub col_offset: f64,
     /// Collective pitch per unit stick (rad).
     pub col_gain: f64,
-    /// Tail pitch per unit pedal (rad); the offset is [`XCell60::tail_pitch_offset`].
+    /// Tail pitch per unit pedal (rad); the offset is [`Helicopter::tail_pitch_offset`].
     pub ped_gain: f64,
     /// Longitudinal cyclic pitch per unit stick (rad).
     pub lon_gain: f64,
@@ -212,6 +219,42 @@ impl Default for StickMap {
             ped_gain: 0.25,
             lon_gain: 0.05,
             lat_gain: 0.05,
+        }
+    }
+}
+
+impl Helicopter {
+    /// The same helicopter Froude-scaled by the length ratio `s`: lengths ∝ s, areas ∝ s²,
+    /// mass ∝ s³, hub stiffness (a moment per radian) ∝ s⁴, inertia ∝ s⁵, rotor speed ∝ s^−½
+    /// (so time ∝ s^½ and `τ_e` with it); air, gravity, every coefficient, gain and angle
+    /// unchanged. Hover thrust `C_T ρ (ΩR)² π R²` then scales as s³ like the weight, so the trim
+    /// `C_T`, blade pitch and sticks are the same, and the non-dimensional dynamics too.
+    pub fn froude_scaled(&self, s: f64) -> Self {
+        let (s2, s3, s4, s5) = (s * s, s * s * s, s * s * s * s, s * s * s * s * s);
+        let blades = |b: &RotorBlades| RotorBlades {
+            radius: b.radius * s,
+            chord: b.chord * s,
+            ..*b
+        };
+        Self {
+            mass: self.mass * s3,
+            ixx: self.ixx * s5,
+            iyy: self.iyy * s5,
+            izz: self.izz * s5,
+            main: blades(&self.main),
+            omega: self.omega / s.sqrt(),
+            k_beta: self.k_beta * s4,
+            h_mr: self.h_mr * s,
+            tail: blades(&self.tail),
+            l_tr: self.l_tr * s,
+            h_tr: self.h_tr * s,
+            vfin_area: self.vfin_area * s2,
+            hfin_area: self.hfin_area * s2,
+            l_ht: self.l_ht * s,
+            fus_sx: self.fus_sx * s2,
+            fus_sy: self.fus_sy * s2,
+            fus_sz: self.fus_sz * s2,
+            ..*self
         }
     }
 }

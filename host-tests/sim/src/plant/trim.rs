@@ -3,7 +3,7 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::dynamics::{derivative, BladePitch, State};
-use super::params::XCell60;
+use super::params::Helicopter;
 use super::{PlantError, Sticks};
 
 /// Newton iterations allowed; the residual is smooth near hover and converges in ≈ 5.
@@ -50,7 +50,7 @@ pub struct HoverTrim {
     pub state: State,
 }
 
-fn trim_state(p: &XCell60, x: &SVector<f64, 6>, yaw: f64) -> (Sticks, BladePitch, State) {
+fn trim_state(p: &Helicopter, x: &SVector<f64, 6>, yaw: f64) -> (Sticks, BladePitch, State) {
     let sticks = Sticks {
         col: x[0],
         ped: x[1],
@@ -69,7 +69,7 @@ fn trim_state(p: &XCell60, x: &SVector<f64, 6>, yaw: f64) -> (Sticks, BladePitch
     (sticks, bp, state)
 }
 
-fn residual(p: &XCell60, x: &SVector<f64, 6>, yaw: f64) -> SVector<f64, 6> {
+fn residual(p: &Helicopter, x: &SVector<f64, 6>, yaw: f64) -> SVector<f64, 6> {
     let (_, bp, state) = trim_state(p, x, yaw);
     let (d, _) = derivative(p, &state, &bp, &Vector3::zeros());
     SVector::<f64, 6>::new(
@@ -84,7 +84,7 @@ fn residual(p: &XCell60, x: &SVector<f64, 6>, yaw: f64) -> SVector<f64, 6> {
 
 /// Solves the hover trim at heading `yaw` (rad) by Newton iteration on
 /// `(u_col, u_ped, u_lon, u_lat, φ, θ)` with a central-difference Jacobian.
-pub fn trim_hover(p: &XCell60, yaw: f64) -> Result<HoverTrim, PlantError> {
+pub fn trim_hover(p: &Helicopter, yaw: f64) -> Result<HoverTrim, PlantError> {
     // Start: hover collective and pedal near their design points, level attitude.
     let mut x = SVector::<f64, 6>::new(0.5, 0.4, 0.0, 0.0, 0.0, 0.0);
     let mut converged = false;
