@@ -35,8 +35,9 @@ cat > docs/cost.md <<MD
 
 Firmware \`firmware-example\` (release, fat LTO, opt-level 2 for every crate) on QEMU
 \`mps2-an386\` (Cortex-M4F), run with
-\`-icount shift=0\`. Each \`Estimate\` carries the SysTick ticks of the fuzzy and of the plain
-identifier's \`step\`. Under \`-icount shift=0\` one instruction is 1 ns of virtual time and
+\`-icount shift=0\`. Each \`Estimate\` carries the SysTick ticks of the active pair's fuzzy and
+plain identifier's answer to the \`Sample\` (\`step\` and the prediction-chain bookkeeping of
+\`rotorid_link::SampleChain\`): the paper pair in both RLS forms, then the flight pair. Under \`-icount shift=0\` one instruction is 1 ns of virtual time and
 SysTick counts the 25 MHz core clock, so **1 tick = 40 instructions**; the calibration loop
 below reads ticks proportional to its rounds (its per-round instruction count depends on the
 firmware's opt-level). Resolution ±40.
@@ -68,7 +69,7 @@ ${size}
 Flash by crate, from the ELF's symbol sizes (\`arm-none-eabi-nm -S\`). With fat LTO a
 function inlined into another counts for the caller's crate, so these are approximate: the
 identification core is \`rotorid\` (the identifiers' code, monomorphised for the firmware's
-two identifiers) plus \`libm\` and \`compiler_builtins\` (\`sincosf\` computes in f64,
+four identifiers: the paper pair and the flight pair) plus \`libm\` and \`compiler_builtins\` (\`sincosf\` computes in f64,
 soft-float on the M4F) and most of \`firmware_example::ident\` (the identifiers'
 instantiation and their messages). RAM: an identifier takes its \`size_of\` (\`cargo run -p rotorid --example
 memory\`: \`FlightIdentifier<f32>\` 2 824 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the

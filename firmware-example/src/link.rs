@@ -232,16 +232,18 @@ fn handle<U: Write, P: Platform, T: Write>(
     let (seq, code) = (frame.seq, frame.msg_type);
     match MsgType::from_u8(frame.msg_type) {
         Some(MsgType::Sample) => match SampleMsg::read(frame.payload) {
-            Ok(m) => {
-                let est = engine.sample(&m, &mut |f| platform.measure(f).1);
-                // MAVLink first: once the client has the Estimate, the telemetry is out too.
-                mav.estimate(&est);
-                out.reply(MsgType::Estimate, |w| est.write(w));
-            }
+            Ok(m) => match engine.sample(&m, &mut |f| platform.measure(f).1) {
+                Some(est) => {
+                    // MAVLink first: once the client has the Estimate, the telemetry is out too.
+                    mav.estimate(&est);
+                    out.reply(MsgType::Estimate, |w| est.write(w));
+                }
+                None => out.nack(seq, code, NackReason::Refused),
+            },
             Err(_) => out.nack(seq, code, NackReason::BadPayload),
         },
         Some(MsgType::Reset) => match ResetMsg::read(frame.payload) {
-            Ok(m) => match engine.reset(m.form) {
+            Ok(m) => match engine.reset(m.form, m.pair) {
                 Ok(()) => Reply::ack(out, seq, code),
                 Err(e) => {
                     defmt::error!("reset failed: {}", e);

@@ -154,7 +154,10 @@ pub fn identification_stream(samples: &[SampleMsg], convergence: bool) -> Stream
     let mut previous: Option<HoverSample<f32>> = None;
     w.heartbeat();
     for (k, m) in samples.iter().enumerate() {
-        let est = mirror.apply(m);
+        // A refused sample (FreeRun without a start) sends no telemetry onboard either.
+        let Some(est) = mirror.apply(m) else {
+            continue;
+        };
         let time_ms = (m.sample.time_us / 1000) as u32;
         for ((ident, out), monitor) in idents.iter().zip([est.fuzzy, est.plain]).zip(&mut monitors)
         {

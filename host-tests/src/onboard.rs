@@ -2,22 +2,27 @@
 //!
 //! [`Onboard`] boots `firmware-example` in QEMU ([`FirmwareLink`]), streams samples as
 //! `Sample` frames (pipelined, a few frames in flight), and compares every `Estimate` with
-//! [`Mirror`], the very same computation (`PaperFuzzyIdentifier<f32>` +
-//! `PaperPlainIdentifier<f32>`) in the host build. The first differing bit stops the stream
+//! [`Mirror`], the very same computation in the host build: the active pair
+//! ([`IdentPair`]: `PaperFuzzyIdentifier<f32>` + `PaperPlainIdentifier<f32>`, or
+//! `FlightIdentifier<f32>` + `ExtendedPlainIdentifier<f32>`), each answering through the same
+//! [`SampleChain`] as the firmware. The first differing bit stops the stream
 //! with a [`Mismatch`] that says where: sample index, time stamp, identifier, field, both bit
 //! patterns.
 
 use std::collections::VecDeque;
 use std::fmt;
 
-use rotorid::hover::HoverSample;
-use rotorid::{HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
-use rotorid_link::msg::{
-    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentRequest, MemoryReport, MsgType, Nack,
-    ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
-    SweepStart,
+use rotorid::hover::{flight_sets, HoverSample};
+use rotorid::{
+    ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    PaperPlainIdentifier,
 };
-use rotorid_link::Writer;
+use rotorid_link::msg::{
+    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentPair, IdentRequest, MemoryReport,
+    MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode,
+    SampleMsg, SweepSample, SweepStart,
+};
+use rotorid_link::{Answer, SampleChain, Writer};
 
 use crate::firmware_link::{BootOptions, FirmwareLink, LinkError, OwnedFrame};
 use rotorid_sim::plant::flight::{simulate, verification_excitation, FlightConfig};
@@ -78,67 +83,75 @@ fn config(form: RlsForm) -> HoverConfig<f32> {
 
 /// The host build of the firmware's computation.
 pub struct Mirror {
-    /// Takagi-Sugeno identifier.
+    /// The paper's Takagi-Sugeno identifier.
     pub fuzzy: PaperFuzzyIdentifier<f32>,
-    /// Single-rule baseline.
+    /// The paper's single-rule baseline.
     pub plain: PaperPlainIdentifier<f32>,
+    /// The flight default.
+    pub flight: FlightIdentifier<f32>,
+    /// Its baseline.
+    pub extended_plain: ExtendedPlainIdentifier<f32>,
+    /// The pair answering `Sample`.
+    pub pair: IdentPair,
+    fuzzy_chain: SampleChain,
+    plain_chain: SampleChain,
 }
 
-type StepResult = Result<([f32; 6], Option<[f32; 6]>), rotorid::Error>;
-
-fn to_output(r: StepResult) -> IdOutput {
+fn to_output(r: Option<Answer>) -> IdOutput {
     match r {
-        Ok((prediction, innovation)) => IdOutput {
+        Some(Ok((prediction, innovation))) => IdOutput {
             prediction,
             innovation,
             error: None,
             ticks: 0,
         },
-        Err(e) => IdOutput::rejected(e, 0),
+        Some(Err(e)) => IdOutput::rejected(e, 0),
+        // Not reached: `apply` refuses a FreeRun without a start before answering.
+        None => IdOutput::rejected(rotorid::Error::Numerical, 0),
     }
 }
 
-fn s6(s: &HoverState<f32>) -> [f32; 6] {
-    s.to_array()
-}
-
 impl Mirror {
-    /// Fresh identifiers in `form` (as after the firmware's `Reset`).
+    /// Fresh identifiers in `form`, the paper pair answering (as after the firmware's
+    /// start-up or a `Reset` to the paper pair).
     pub fn new(form: RlsForm) -> Result<Self, rotorid::Error> {
+        Self::with_pair(form, IdentPair::Paper)
+    }
+
+    /// Fresh identifiers in `form`, `pair` answering (as after the firmware's `Reset`).
+    pub fn with_pair(form: RlsForm, pair: IdentPair) -> Result<Self, rotorid::Error> {
         let c = config(form);
         Ok(Self {
             fuzzy: PaperFuzzyIdentifier::paper_fuzzy(c)?,
             plain: PaperPlainIdentifier::paper_plain(c)?,
+            flight: FlightIdentifier::flight(c, flight_sets())?,
+            extended_plain: ExtendedPlainIdentifier::extended_plain(c)?,
+            pair,
+            fuzzy_chain: SampleChain::new(),
+            plain_chain: SampleChain::new(),
         })
     }
 
-    /// What the firmware answers to `m` (ticks 0).
-    pub fn apply(&mut self, m: &SampleMsg) -> Estimate {
-        let s = &m.sample;
-        let (f, p): (StepResult, StepResult) = match m.mode {
-            SampleMode::Predict => (
-                self.fuzzy.predict(s).map(|x| (s6(&x), None)),
-                self.plain.predict(s).map(|x| (s6(&x), None)),
+    /// What the firmware answers to `m` (ticks 0); `None` where it refuses the sample
+    /// (`Nack`: a `FreeRun` while an identifier has no prediction to continue from).
+    pub fn apply(&mut self, m: &SampleMsg) -> Option<Estimate> {
+        let (fc, pc) = (&mut self.fuzzy_chain, &mut self.plain_chain);
+        if m.mode == SampleMode::FreeRun && !(fc.can_free_run() && pc.can_free_run()) {
+            return None;
+        }
+        let (f, p) = match self.pair {
+            IdentPair::Flight => (
+                fc.answer(&mut self.flight, m),
+                pc.answer(&mut self.extended_plain, m),
             ),
-            SampleMode::Resume => (
-                self.fuzzy.resume(s).map(|x| (s6(&x), None)),
-                self.plain.resume(s).map(|x| (s6(&x), None)),
-            ),
-            _ => (
-                self.fuzzy
-                    .step(s)
-                    .map(|o| (s6(&o.prediction), o.innovation.as_ref().map(s6))),
-                self.plain
-                    .step(s)
-                    .map(|o| (s6(&o.prediction), o.innovation.as_ref().map(s6))),
-            ),
+            _ => (fc.answer(&mut self.fuzzy, m), pc.answer(&mut self.plain, m)),
         };
-        Estimate {
-            time_us: s.time_us,
+        Some(Estimate {
+            time_us: m.sample.time_us,
             mode: m.mode,
             fuzzy: to_output(f),
             plain: to_output(p),
-        }
+        })
     }
 }
 
@@ -307,8 +320,11 @@ pub struct Onboard {
 /// What streaming returned.
 #[derive(Clone, Debug, Default)]
 pub struct StreamResult {
-    /// The firmware's estimates, in order (all bit-identical to the host's).
+    /// The firmware's estimates, in order (all bit-identical to the host's), one per
+    /// sample not in `refused`.
     pub estimates: Vec<Estimate>,
+    /// Stream indices of the samples the firmware refused (`Nack` `Refused`) as the host did.
+    pub refused: Vec<usize>,
 }
 
 impl Onboard {
@@ -334,12 +350,17 @@ impl Onboard {
         Ok(me)
     }
 
-    /// Resets both sides to `form`.
+    /// Resets both sides to `form`, the paper pair answering.
     pub fn reset(&mut self, form: RlsForm) -> Result<(), OnboardError> {
-        let p = payload(|w| ResetMsg { form }.write(w));
+        self.reset_pair(form, IdentPair::Paper)
+    }
+
+    /// Resets both sides to `form`, `pair` answering `Sample`.
+    pub fn reset_pair(&mut self, form: RlsForm, pair: IdentPair) -> Result<(), OnboardError> {
+        let p = payload(|w| ResetMsg { form, pair }.write(w));
         let f = self.link.request(MsgType::Reset, &p, MsgType::Ack)?;
         expect_ack(&f, MsgType::Reset)?;
-        self.mirror = Mirror::new(form).map_err(OnboardError::Core)?;
+        self.mirror = Mirror::with_pair(form, pair).map_err(OnboardError::Core)?;
         self.streamed = 0;
         Ok(())
     }
@@ -351,9 +372,10 @@ impl Onboard {
         samples: &[SampleMsg],
         mut progress: impl FnMut(usize),
     ) -> Result<StreamResult, OnboardError> {
-        let mut in_flight: VecDeque<(usize, Estimate)> = VecDeque::new();
+        let mut in_flight: VecDeque<(usize, Option<Estimate>)> = VecDeque::new();
         let mut out = StreamResult {
             estimates: Vec::with_capacity(samples.len()),
+            refused: Vec::new(),
         };
         let mut next = 0;
         while next < samples.len() || !in_flight.is_empty() {
@@ -366,27 +388,43 @@ impl Onboard {
                 next += 1;
             }
             let f = self.link.recv()?;
-            let est = match f.kind() {
-                Some(MsgType::Estimate) => Estimate::read(&f.payload)
-                    .map_err(|e| OnboardError::Protocol(format!("Estimate payload: {e}")))?,
-                _ => {
-                    return Err(OnboardError::Protocol(format!(
-                        "expected Estimate, got {:?} {:02x?}",
-                        f.kind(),
-                        f.payload
-                    )))
-                }
-            };
             let Some((index, host)) = in_flight.pop_front() else {
-                return Err(OnboardError::Protocol("unsolicited Estimate".into()));
+                return Err(OnboardError::Protocol("unsolicited reply".into()));
             };
-            compare(index, &host, &est).map_err(OnboardError::Mismatch)?;
-            out.estimates.push(est);
-            if out.estimates.len().is_multiple_of(64) {
-                progress(out.estimates.len());
+            match (f.kind(), host) {
+                (Some(MsgType::Estimate), Some(host)) => {
+                    let est = Estimate::read(&f.payload)
+                        .map_err(|e| OnboardError::Protocol(format!("Estimate payload: {e}")))?;
+                    compare(index, &host, &est).map_err(OnboardError::Mismatch)?;
+                    out.estimates.push(est);
+                }
+                // A sample the host refuses too: the firmware must say `Refused`.
+                (Some(MsgType::Nack), None) => match Nack::read(&f.payload) {
+                    Ok(n) if n.reason == NackReason::Refused.code() => out.refused.push(index),
+                    r => {
+                        return Err(OnboardError::Protocol(format!(
+                            "bad Nack for Sample: {r:?}"
+                        )))
+                    }
+                },
+                (kind, host) => {
+                    return Err(OnboardError::Mismatch(Box::new(Mismatch {
+                        index,
+                        time_us: samples
+                            .get(index - self.streamed)
+                            .map_or(0, |m| m.sample.time_us),
+                        what: "reply kind".into(),
+                        host: if host.is_some() { "Estimate" } else { "Nack" }.into(),
+                        firmware: format!("{kind:?} {:02x?}", f.payload),
+                    })))
+                }
+            }
+            let done = out.estimates.len() + out.refused.len();
+            if done.is_multiple_of(64) {
+                progress(done);
             }
         }
-        progress(out.estimates.len());
+        progress(out.estimates.len() + out.refused.len());
         self.streamed += samples.len();
         Ok(out)
     }

@@ -368,3 +368,57 @@ fn full_flights_bit_for_bit_when_long() {
         t0.elapsed()
     );
 }
+
+/// The flight pair (`FlightIdentifier` + `ExtendedPlainIdentifier`, chosen by `Reset`) on a
+/// piece of the envelope flight: learning, one step with the measured previous state, then
+/// the onboard free run, bit for bit; a `FreeRun` without a start and the paper-only
+/// requests are refused on both sides.
+#[test]
+fn flight_pair_learns_predicts_and_free_runs_bit_for_bit() {
+    use rotorid_link::msg::IdentPair;
+    use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
+    use rotorid_sim::flights::to_hover_samples;
+    let flight =
+        to_hover_samples(&envelope_flight(1, EnvelopeKind::Identification).expect("flight"));
+    let mut ob = Onboard::boot(RlsForm::UdDefault, false).expect("boot");
+    ob.reset_pair(RlsForm::UdDefault, IdentPair::Flight)
+        .expect("reset");
+    // Nothing to continue from yet: refused by the firmware as by the host, nothing changed.
+    let refused = ob
+        .stream(&messages(&flight[..1], SampleMode::FreeRun), |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((refused.estimates.len(), refused.refused), (0, vec![0]));
+    // Learning (the hover part of the flight and the first acceleration).
+    let learned = ob
+        .stream(&messages(&flight[..400], SampleMode::Learn), |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(learned.estimates.iter().all(|e| e.fuzzy.error.is_none()));
+    // θ frozen: one step from measured states, then a 2 s free-run window.
+    let ver = &flight[400..560];
+    let mut msgs = messages(&ver[..50], SampleMode::Predict);
+    msgs[0].mode = SampleMode::Resume;
+    msgs.extend(messages(&ver[50..], SampleMode::FreeRun));
+    let res = ob.stream(&msgs, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    assert!(res.refused.is_empty());
+    // The free run really ran on the model's own state: its predictions drift from the
+    // one-step ones the measured states give.
+    let mirror = &ob.mirror.flight;
+    let last = &res.estimates[res.estimates.len() - 1];
+    let one_step = mirror
+        .predict(&ver[ver.len() - 1])
+        .expect("predict")
+        .to_array();
+    assert_ne!(
+        last.fuzzy.prediction.map(f32::to_bits),
+        one_step.map(f32::to_bits)
+    );
+    assert!(res
+        .estimates
+        .iter()
+        .all(|e| e.fuzzy.error.is_none() && e.plain.error.is_none()));
+    // Params and export are the paper pair's: refused while the flight pair answers.
+    assert!(matches!(
+        ob.params(Ident::Fuzzy),
+        Err(OnboardError::Protocol(_))
+    ));
+}

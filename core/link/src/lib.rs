@@ -85,6 +85,7 @@ mod cobs_decode;
 mod frame;
 pub mod msg;
 mod payload;
+mod sample_chain;
 mod stats;
 
 pub use frame::{
@@ -92,6 +93,7 @@ pub use frame::{
     FrameError,
 };
 pub use payload::{Field, PayloadError, Reader, Writer};
+pub use sample_chain::{Answer, SampleChain};
 pub use stats::{LinkStats, SeqTracker};
 
 /// Protocol version carried in byte 0 of every raw frame. Frames with another version and a

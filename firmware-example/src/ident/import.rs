@@ -5,7 +5,7 @@
 use rotorid::hover::{HoverModels, HoverSnapshot, StateModel};
 use rotorid::{PaperFuzzyIdentifier, PaperPlainIdentifier, RlsState};
 use rotorid_link::msg::{
-    self, state_len, DataChunk, Ident, MsgType, NackReason, StateDecoder, StateParts,
+    self, state_len, DataChunk, Ident, IdentPair, MsgType, NackReason, StateDecoder, StateParts,
 };
 use rotorid_link::Reader;
 
@@ -103,6 +103,12 @@ impl Identification {
     /// `ImportChunk`: stages chunks in order; the last one is CRC-checked and imported.
     pub fn import_chunk(&mut self, seq: u16, c: &DataChunk<'_>, out: &mut dyn Reply) {
         let code = MsgType::ImportChunk.code();
+        if self.pair() != IdentPair::Paper {
+            self.abort_fuzzy_import();
+            self.stage = None;
+            out.nack(seq, code, NackReason::Refused);
+            return;
+        }
         if c.ident != Ident::Plain {
             match self.fuzzy_chunk(c) {
                 Ok(()) => out.ack(seq, code),

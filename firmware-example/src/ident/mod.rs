@@ -1,10 +1,16 @@
-//! Onboard identification: the two identifiers and the handlers of the identification
+//! Onboard identification: the identifier pairs and the handlers of the identification
 //! messages (board-agnostic, like the `link` module).
 //!
-//! * `Sample` → `Estimate`: one sample stepped through the fuzzy identifier (U-D default or
-//!   the paper's covariance form, chosen by `Reset`) and the plain baseline, each timed.
-//!   A sample the core rejects leaves both identifiers unchanged (the core's contract) and
-//!   the reply says which `rotorid::Error`.
+//! Two pairs live side by side; `Reset` chooses which one answers `Sample` ([`IdentPair`]):
+//! the paper's (`PaperFuzzyIdentifier` + `PaperPlainIdentifier`, reproduction) and the flight
+//! default against its baseline (`FlightIdentifier` with `flight_sets()` +
+//! `ExtendedPlainIdentifier`).
+//!
+//! * `Sample` → `Estimate`: one sample through both identifiers of the active pair, each
+//!   timed; what each mode does is [`rotorid_link::SampleChain`] (shared with the host's
+//!   mirror). A sample the core rejects leaves the identifier unchanged (the core's contract)
+//!   and the reply says which `rotorid::Error`. A `FreeRun` sample while an identifier has
+//!   no prediction to continue from is refused (`Nack` `Refused`), nothing changed.
 //! * `ParamsRequest` → `Params`…: θ, diag(P) and a summary of each of the four models.
 //! * `ExportRequest` → `ExportChunk`…: the identifier's state as a byte stream with CRC,
 //!   read straight from the estimators (no copy of the 10.5 KiB state).
@@ -15,19 +21,25 @@
 //!   (a model the core refuses, a chunk out of order, the CRC, another request arriving
 //!   mid-import) resets the fuzzy identifier, so it never runs with a mix of old and new
 //!   models (see `docs/protocol.md`).
+//! * Params, export and import are implemented for the paper pair; while the flight pair is
+//!   active they are refused (`Nack` `Refused`), see `docs/protocol.md`.
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
+use rotorid::hover::{flight_sets, HoverIdentifier, StateModel};
 use rotorid::sweep::SweepSchedule;
 use rotorid::RlsView;
-use rotorid::{Error, HoverConfig, HoverState, PaperFuzzyIdentifier, PaperPlainIdentifier};
-use rotorid_link::msg::{
-    self, DataChunk, IdOutput, Ident, MsgType, NackReason, ParamField, ParamsChunk, Payload,
-    RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+use rotorid::{
+    Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    PaperPlainIdentifier,
 };
-use rotorid_link::Writer;
+use rotorid_link::msg::{
+    self, DataChunk, IdOutput, Ident, IdentPair, MsgType, NackReason, ParamField, ParamsChunk,
+    Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+};
+use rotorid_link::{SampleChain, Writer};
 
 mod import;
 
@@ -52,6 +64,13 @@ pub enum ResetError {
 pub struct Identification {
     fuzzy: Result<PaperFuzzyIdentifier<f32>, Error>,
     plain: Result<PaperPlainIdentifier<f32>, Error>,
+    flight: Result<FlightIdentifier<f32>, Error>,
+    extended_plain: Result<ExtendedPlainIdentifier<f32>, Error>,
+    /// The pair answering `Sample`.
+    pair: IdentPair,
+    /// Prediction chains of the active pair's fuzzy and plain identifier.
+    fuzzy_chain: SampleChain,
+    plain_chain: SampleChain,
     form: RlsForm,
     stage: Option<ImportStage>,
     fuzzy_stage: Option<FuzzyImport>,
@@ -73,6 +92,21 @@ fn build_plain(
     c: HoverConfig<f32>,
 ) {
     dst.write(PaperPlainIdentifier::paper_plain(c));
+}
+
+/// `FlightIdentifier::flight(c, flight_sets())` written straight into `dst`.
+#[inline(never)]
+fn build_flight(dst: &mut MaybeUninit<Result<FlightIdentifier<f32>, Error>>, c: HoverConfig<f32>) {
+    dst.write(FlightIdentifier::flight(c, flight_sets()));
+}
+
+/// `extended_plain(c)` written straight into `dst`.
+#[inline(never)]
+fn build_extended_plain(
+    dst: &mut MaybeUninit<Result<ExtendedPlainIdentifier<f32>, Error>>,
+    c: HoverConfig<f32>,
+) {
+    dst.write(ExtendedPlainIdentifier::extended_plain(c));
 }
 
 static ENGINE_TAKEN: AtomicBool = AtomicBool::new(false);
@@ -99,13 +133,6 @@ pub trait Reply {
     fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason);
 }
 
-/// Prediction and innovation of one call, or the core's error.
-type StepResult = Result<([f32; 6], Option<[f32; 6]>), Error>;
-
-fn state6(s: &HoverState<f32>) -> [f32; 6] {
-    s.to_array()
-}
-
 fn ticks32(t: u64) -> u32 {
     u32::try_from(t).unwrap_or(u32::MAX)
 }
@@ -127,101 +154,103 @@ impl Identification {
         unsafe {
             build_fuzzy(&mut *core::ptr::addr_of_mut!((*p).fuzzy).cast(), c);
             build_plain(&mut *core::ptr::addr_of_mut!((*p).plain).cast(), c);
+            build_flight(&mut *core::ptr::addr_of_mut!((*p).flight).cast(), c);
+            build_extended_plain(&mut *core::ptr::addr_of_mut!((*p).extended_plain).cast(), c);
+            core::ptr::addr_of_mut!((*p).pair).write(IdentPair::Paper);
+            core::ptr::addr_of_mut!((*p).fuzzy_chain).write(SampleChain::new());
+            core::ptr::addr_of_mut!((*p).plain_chain).write(SampleChain::new());
             core::ptr::addr_of_mut!((*p).form).write(RlsForm::UdDefault);
             core::ptr::addr_of_mut!((*p).stage).write(None);
             core::ptr::addr_of_mut!((*p).fuzzy_stage).write(None);
         }
         // SAFETY: every field was initialised above.
         let engine = unsafe { slot.assume_init_mut() };
-        (engine.fuzzy.is_ok() && engine.plain.is_ok()).then_some(engine)
+        (engine.fuzzy.is_ok()
+            && engine.plain.is_ok()
+            && engine.flight.is_ok()
+            && engine.extended_plain.is_ok())
+        .then_some(engine)
     }
 
-    /// `Sample`: runs both identifiers, each under `measure`.
+    /// `Sample`: runs both identifiers of the active pair, each under `measure`; `None`
+    /// (answer `Nack` `Refused`, nothing changed) for a `FreeRun` while an identifier has no
+    /// prediction to continue from.
     pub fn sample(
         &mut self,
         m: &SampleMsg,
         measure: &mut dyn FnMut(&mut dyn FnMut()) -> u64,
-    ) -> msg::Estimate {
+    ) -> Option<msg::Estimate> {
         self.abort_fuzzy_import();
-        let s = &m.sample;
-        let mut fuzzy = None;
-        let mut plain = None;
-        let tf = {
-            let id = &mut self.fuzzy;
-            let out = &mut fuzzy;
-            measure(&mut || {
-                *out = Some(match id {
-                    Err(e) => Err(*e),
-                    Ok(id) => match m.mode {
-                        SampleMode::Predict => id.predict(s).map(|p| (state6(&p), None)),
-                        SampleMode::Resume => id.resume(s).map(|p| (state6(&p), None)),
-                        _ => id
-                            .step(s)
-                            .map(|o| (state6(&o.prediction), o.innovation.as_ref().map(state6))),
-                    },
-                })
-            })
-        };
-        let tp = {
-            let id = &mut self.plain;
-            let out = &mut plain;
-            measure(&mut || {
-                *out = Some(match id {
-                    Err(e) => Err(*e),
-                    Ok(id) => match m.mode {
-                        SampleMode::Predict => id.predict(s).map(|p| (state6(&p), None)),
-                        SampleMode::Resume => id.resume(s).map(|p| (state6(&p), None)),
-                        _ => id
-                            .step(s)
-                            .map(|o| (state6(&o.prediction), o.innovation.as_ref().map(state6))),
-                    },
-                })
-            })
-        };
-        let output = |r: Option<StepResult>, t: u64| match r {
-            Some(Ok((prediction, innovation))) => IdOutput {
-                prediction,
-                innovation,
-                error: None,
-                ticks: ticks32(t),
-            },
-            Some(Err(e)) => IdOutput::rejected(e, ticks32(t)),
-            // The measured closure always runs; this only keeps the code panic-free.
-            None => IdOutput::rejected(Error::Numerical, ticks32(t)),
-        };
-        msg::Estimate {
-            time_us: s.time_us,
-            mode: m.mode,
-            fuzzy: output(fuzzy, tf),
-            plain: output(plain, tp),
+        if m.mode == SampleMode::FreeRun
+            && !(self.fuzzy_chain.can_free_run() && self.plain_chain.can_free_run())
+        {
+            return None;
         }
+        let (fc, pc) = (&mut self.fuzzy_chain, &mut self.plain_chain);
+        let (fuzzy, plain) = match self.pair {
+            IdentPair::Flight => (
+                answer_timed(&mut self.flight, fc, m, measure),
+                answer_timed(&mut self.extended_plain, pc, m, measure),
+            ),
+            _ => (
+                answer_timed(&mut self.fuzzy, fc, m, measure),
+                answer_timed(&mut self.plain, pc, m, measure),
+            ),
+        };
+        Some(msg::Estimate {
+            time_us: m.sample.time_us,
+            mode: m.mode,
+            fuzzy,
+            plain,
+        })
     }
 
-    /// `Reset`: both identifiers back to θ = 0, P = αI in `form`. A new form is set in place
+    /// `Reset`: every identifier back to θ = 0, P = αI in `form`, both prediction chains
+    /// empty, and `pair` answers `Sample` from now on. A new form is set in place
     /// ([`rotorid::HoverIdentifier::reconfigure`]): nothing is rebuilt or moved, so a Reset
     /// costs no stack beyond the call itself.
-    pub fn reset(&mut self, form: RlsForm) -> Result<(), ResetError> {
+    pub fn reset(&mut self, form: RlsForm, pair: IdentPair) -> Result<(), ResetError> {
         self.stage = None;
         self.fuzzy_stage = None;
-        let (Ok(f), Ok(p)) = (&mut self.fuzzy, &mut self.plain) else {
+        self.fuzzy_chain = SampleChain::new();
+        self.plain_chain = SampleChain::new();
+        let (Ok(f), Ok(p), Ok(fl), Ok(xp)) = (
+            &mut self.fuzzy,
+            &mut self.plain,
+            &mut self.flight,
+            &mut self.extended_plain,
+        ) else {
             return Err(ResetError::IdentifierMissing);
         };
         if form == self.form {
             f.reset();
             p.reset();
-            return Ok(());
+            fl.reset();
+            xp.reset();
+        } else {
+            let c = config(form);
+            // All validate the same settings: the others cannot fail after the first passed.
+            f.reconfigure(c).map_err(ResetError::Core)?;
+            p.reconfigure(c).map_err(ResetError::Core)?;
+            fl.reconfigure(c).map_err(ResetError::Core)?;
+            xp.reconfigure(c).map_err(ResetError::Core)?;
+            self.form = form;
         }
-        let c = config(form);
-        // Both validate the same settings: the second cannot fail after the first passed.
-        f.reconfigure(c).map_err(ResetError::Core)?;
-        p.reconfigure(c).map_err(ResetError::Core)?;
-        self.form = form;
+        self.pair = pair;
         Ok(())
+    }
+
+    /// The pair answering `Sample`.
+    pub fn pair(&self) -> IdentPair {
+        self.pair
     }
 
     /// θ of `ident`'s four models (velocity, q̂, r̂, p̂), for telemetry; `None` if that
     /// identifier failed to build.
     pub fn thetas(&self, ident: Ident) -> Option<[&[f32]; 4]> {
+        if self.pair != IdentPair::Paper {
+            return None;
+        }
         let views = match ident {
             Ident::Plain => self.plain_views(),
             _ => self.fuzzy_views(),
@@ -252,6 +281,9 @@ impl Identification {
     /// `ParamsRequest`: θ, diag(P) and summary of each model, in order.
     pub fn params(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
         match (ident, &self.fuzzy, &self.plain) {
+            _ if self.pair != IdentPair::Paper => {
+                out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused)
+            }
             (Ident::Plain, _, Ok(p)) => {
                 p.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
@@ -264,6 +296,10 @@ impl Identification {
 
     /// `ExportRequest`: the snapshot stream in `ExportChunk`s.
     pub fn export(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
+        if self.pair != IdentPair::Paper {
+            out.nack(seq, MsgType::ExportRequest.code(), NackReason::Refused);
+            return;
+        }
         let views = match ident {
             Ident::Plain => self.plain_views(),
             _ => self.fuzzy_views(),
@@ -314,6 +350,40 @@ impl Identification {
             out.reply(MsgType::SweepSample, &mut |w| m.write(w));
         }
         out.ack(seq, code);
+    }
+}
+
+/// `chain.answer(id, m)` under `measure`, as the identifier's [`IdOutput`].
+fn answer_timed<Vm, Qm, Rm, Pm>(
+    id: &mut Result<HoverIdentifier<f32, Vm, Qm, Rm, Pm>, Error>,
+    chain: &mut SampleChain,
+    m: &SampleMsg,
+    measure: &mut dyn FnMut(&mut dyn FnMut()) -> u64,
+) -> IdOutput
+where
+    Vm: StateModel<f32>,
+    Qm: StateModel<f32>,
+    Rm: StateModel<f32>,
+    Pm: StateModel<f32>,
+{
+    let mut answer = None;
+    let t = ticks32(measure(&mut || {
+        answer = Some(match id {
+            Err(e) => Err(*e),
+            // `None` only for a FreeRun without a start, refused before we get here.
+            Ok(id) => chain.answer(id, m).unwrap_or(Err(Error::Numerical)),
+        })
+    }));
+    match answer {
+        Some(Ok((prediction, innovation))) => IdOutput {
+            prediction,
+            innovation,
+            error: None,
+            ticks: t,
+        },
+        Some(Err(e)) => IdOutput::rejected(e, t),
+        // The measured closure always runs; this only keeps the code panic-free.
+        None => IdOutput::rejected(Error::Numerical, t),
     }
 }
 

@@ -17,6 +17,11 @@ wire_enum! {
         Predict = 1,
         /// `resume`: start a new sample chain here without learning, then predict.
         Resume = 2,
+        /// Onboard free run, θ frozen: predict from this sample's attitude and controls with
+        /// `v^s` and `ω` replaced by the identifier's own previous prediction (see
+        /// [`SampleChain`](crate::SampleChain)). Refused (`Nack`) when an identifier has no
+        /// prediction to continue from.
+        FreeRun = 3,
     }
 }
 
@@ -122,7 +127,8 @@ impl Field for IdOutput {
 
 fixed_payload! {
     /// `Estimate` payload (171 B): the sample's `time_us` u64 and mode u8, then the fuzzy and
-    /// the plain identifier's [`IdOutput`] (81 B each).
+    /// the plain identifier's [`IdOutput`] (81 B each) of the [`IdentPair`] the last `Reset`
+    /// chose.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
     pub struct Estimate for [Estimate] {
@@ -130,15 +136,16 @@ fixed_payload! {
         pub time_us: u64,
         /// The sample's mode.
         pub mode: SampleMode,
-        /// The Takagi-Sugeno identifier.
+        /// The pair's Takagi-Sugeno identifier (paper fuzzy, or the flight default).
         pub fuzzy: IdOutput,
-        /// The plain (single-rule) identifier.
+        /// The pair's single-rule baseline (paper plain, or extended plain).
         pub plain: IdOutput,
     }
 }
 
 wire_enum! {
-    /// Which onboard identifier a request is about.
+    /// Which onboard identifier of the paper pair a request (params, export, import) is
+    /// about; refused while the flight pair answers `Sample`.
     #[non_exhaustive]
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -163,14 +170,33 @@ wire_enum! {
     }
 }
 
+wire_enum! {
+    /// Which pair of identifiers answers `Sample` (the `fuzzy` and `plain` outputs of an
+    /// [`Estimate`]), chosen by a `Reset`.
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum IdentPair {
+        /// The paper's pair (reproduction): `PaperFuzzyIdentifier<f32>` and
+        /// `PaperPlainIdentifier<f32>`.
+        Paper = 0,
+        /// The flight default and its baseline: `FlightIdentifier<f32>` (built with
+        /// `flight_sets()`) and `ExtendedPlainIdentifier<f32>`.
+        Flight = 1,
+    }
+}
+
 fixed_payload! {
-    /// `Reset` payload (1 B): the [`RlsForm`] of both identifiers from now on. Answered by
-    /// `Ack` once both identifiers are back at θ = 0, P = αI, without a previous sample.
+    /// `Reset` payload (2 B): the [`RlsForm`] of every identifier from now on, and the
+    /// [`IdentPair`] that answers `Sample`. Answered by `Ack` once every identifier is back at
+    /// θ = 0, P = αI, without a previous sample or prediction.
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
     pub struct ResetMsg for [Reset] {
         /// RLS form.
         pub form: RlsForm,
+        /// The pair that answers `Sample`.
+        pub pair: IdentPair,
     }
 }
 
@@ -255,7 +281,7 @@ mod tests {
             mode: SampleMode::Learn,
             sample: sample(),
         });
-        b[0] = 3;
+        b[0] = 4;
         assert_eq!(SampleMsg::read(&b), Err(PayloadError::InvalidValue));
     }
 
@@ -295,13 +321,16 @@ mod tests {
     #[test]
     fn small_requests_roundtrip() {
         for &form in RlsForm::ALL {
-            let m = ResetMsg { form };
-            let b = roundtrip(&m);
-            assert_eq!(b, [form as u8]);
-            assert_eq!(ResetMsg::read(&b), Ok(m));
-            rejects_truncated_and_extended::<ResetMsg>(&b);
+            for &pair in IdentPair::ALL {
+                let m = ResetMsg { form, pair };
+                let b = roundtrip(&m);
+                assert_eq!(b, [form as u8, pair as u8]);
+                assert_eq!(ResetMsg::read(&b), Ok(m));
+                rejects_truncated_and_extended::<ResetMsg>(&b);
+            }
         }
-        assert!(ResetMsg::read(&[2]).is_err());
+        assert!(ResetMsg::read(&[2, 0]).is_err());
+        assert!(ResetMsg::read(&[0, 2]).is_err());
         for &ident in Ident::ALL {
             let m = IdentRequest { ident };
             let b = roundtrip(&m);

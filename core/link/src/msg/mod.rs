@@ -122,8 +122,8 @@ pub mod test_hooks;
 
 pub use errors::{read_error, write_error, ERROR_LEN, UNKNOWN_CODE};
 pub use ident::{
-    Estimate, ExportRequest, IdOutput, Ident, IdentRequest, ParamsRequest, ResetMsg, RlsForm,
-    SampleMode, SampleMsg,
+    Estimate, ExportRequest, IdOutput, Ident, IdentPair, IdentRequest, ParamsRequest, ResetMsg,
+    RlsForm, SampleMode, SampleMsg,
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{
