@@ -242,6 +242,13 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
         terms
     }
 
+    /// Writes this model's rate `ω(k) + Δω̂` into `next`.
+    fn advance(&self, from: &HoverSample<T>, increment: T, next: &mut HoverState<T>) {
+        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
+            *slot = self.rate(from) + increment;
+        }
+    }
+
     fn rate(&self, s: &HoverSample<T>) -> T {
         s.rates
             .get(self.axis.index())
@@ -296,9 +303,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
             &self.premise.of(from, from_frame),
             &[self.terms_in(from, from_frame, before)],
         )?;
-        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
-            *slot = self.rate(from) + increment;
-        }
+        self.advance(from, increment, next);
         Ok(())
     }
 
@@ -312,9 +317,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         let premise = self.premise.of(from, from_frame);
         let terms = [self.terms_in(from, from_frame, before)];
         let [increment] = self.ts.predict_keep(&premise, &terms)?;
-        if let Some(slot) = next.rates.get_mut(self.axis.index()) {
-            *slot = self.rate(from) + increment;
-        }
+        self.advance(from, increment, next);
         Ok(())
     }
 

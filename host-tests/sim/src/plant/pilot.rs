@@ -91,7 +91,7 @@ pub struct HoverPilot {
 }
 
 /// Wraps an angle to (−π, π].
-fn wrap_pi(a: f64) -> f64 {
+pub(crate) fn wrap_pi(a: f64) -> f64 {
     let two_pi = 2.0 * core::f64::consts::PI;
     let w = a - two_pi * (a / two_pi).round();
     if w <= -core::f64::consts::PI {

@@ -125,16 +125,6 @@ impl Gust {
     }
 }
 
-fn wrap_pi(a: f64) -> f64 {
-    let two_pi = 2.0 * core::f64::consts::PI;
-    let w = a - two_pi * (a / two_pi).round();
-    if w <= -core::f64::consts::PI {
-        w + two_pi
-    } else {
-        w
-    }
-}
-
 /// Measures `state` at time `t` (s) with the commands `sticks`; adds noise if `noise` is given
 /// (draws in the fixed order roll, pitch, yaw, v_n, v_e, v_d, p, q, r).
 pub(crate) fn measure(
@@ -162,7 +152,7 @@ pub(crate) fn measure(
     if let Some((n, rng)) = noise {
         s.roll += n.angle * normal(rng);
         s.pitch += n.angle * normal(rng);
-        s.yaw = wrap_pi(s.yaw + n.angle * normal(rng));
+        s.yaw = super::pilot::wrap_pi(s.yaw + n.angle * normal(rng));
         s.v_north += n.velocity * normal(rng);
         s.v_east += n.velocity * normal(rng);
         s.v_down += n.velocity * normal(rng);
