@@ -108,6 +108,71 @@ fn generated_heli_logs_round_trip() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A CSV log at 100 Hz (the 50 Hz flight with a sample halfway between each two: states
+/// interpolated, controls held) is put back on the 50 Hz grid, with a note; the 50 Hz log
+/// itself is taken as it is.
+#[test]
+fn csv_logs_at_another_rate_are_resampled_at_50_hz() {
+    // Time stamps on whole microseconds, as a log's are (and the resampling grid is).
+    let mut flight = heli_flight(10.0);
+    for (k, s) in flight.iter_mut().enumerate() {
+        s.t = (k as f64 * 20_000.0) / 1e6;
+    }
+    let mut fast = Vec::new();
+    for w in flight.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let mid = |x: f64, y: f64| 0.5 * (x + y);
+        fast.push(a);
+        fast.push(SensorSample {
+            t: mid(a.t, b.t),
+            roll: mid(a.roll, b.roll),
+            pitch: mid(a.pitch, b.pitch),
+            yaw: mid(a.yaw, b.yaw),
+            v_north: mid(a.v_north, b.v_north),
+            v_east: mid(a.v_east, b.v_east),
+            v_down: mid(a.v_down, b.v_down),
+            p: mid(a.p, b.p),
+            q: mid(a.q, b.q),
+            r: mid(a.r, b.r),
+            ..a
+        });
+    }
+    fast.extend(flight.last().copied());
+    let dir = tmpdir("csv-rate");
+    let (slow_path, fast_path) = (dir.join("50hz.csv"), dir.join("100hz.csv"));
+    rotorid_cli::log::write_log(&slow_path, &flight).expect("write");
+    rotorid_cli::log::write_log(&fast_path, &fast).expect("write");
+
+    let slow = import::import(&slow_path).expect("50 Hz");
+    assert!(slow.notes.is_empty(), "{:?}", slow.notes);
+    assert_eq!(slow.segments, vec![flight.clone()]);
+
+    let imported = import::import(&fast_path).expect("100 Hz");
+    assert_eq!(imported.format, LogFormat::Csv);
+    assert!(
+        imported
+            .notes
+            .iter()
+            .any(|n| n.contains("100.0 Hz") && n.contains("resampled")),
+        "{:?}",
+        imported.notes
+    );
+    assert_eq!(imported.segments.len(), 1);
+    let seg = &imported.segments[0];
+    assert_eq!(seg.len(), flight.len());
+    for (a, b) in seg.iter().zip(&flight) {
+        let (x, y) = (rotorid_cli::log::values(a), rotorid_cli::log::values(b));
+        for (i, (x, y)) in x.iter().zip(y.iter()).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-9 * y.abs().max(1.0),
+                "t={} column {i}: {x} vs {y}",
+                b.t
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn gaps_split_generated_logs() {
     let mut flight = heli_flight(6.0);

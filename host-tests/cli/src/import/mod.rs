@@ -4,7 +4,9 @@
 //! their units and checks: `docs/log-format.md`.
 //!
 //! The format is told by the file's first bytes (ULog magic `ULog\x01\x12\x35`, DataFlash
-//! `0xA3 0x95`), anything else is read as CSV ([`crate::log`]).
+//! `0xA3 0x95`), anything else is read as CSV ([`crate::log`]). A CSV log is taken as it is
+//! at 50 Hz; at another rate (its mean interval off by more than
+//! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
 
 pub mod dataflash;
 pub mod resample;
@@ -154,11 +156,19 @@ pub fn import(path: &Path) -> Result<Imported, ImportError> {
         LogFormat::DataFlash => dataflash::channels(&file, &bytes)?,
         LogFormat::Csv => {
             let samples = log::parse_log(&file, bytes.as_slice())?;
-            return Ok(Imported {
-                format,
-                segments: vec![samples],
-                notes: Vec::new(),
-            });
+            let Some(rate) = resample::other_rate(&samples) else {
+                return Ok(Imported {
+                    format,
+                    segments: vec![samples],
+                    notes: Vec::new(),
+                });
+            };
+            let note = format!(
+                "{file}: sampled at {rate:.1} Hz, not {} Hz: resampled at {} Hz (states interpolated linearly, controls held)",
+                resample::RATE_HZ,
+                resample::RATE_HZ
+            );
+            (Channels::of_samples(&samples), vec![note])
         }
     };
     let segments = resample::resample(&channels);

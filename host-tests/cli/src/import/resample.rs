@@ -94,6 +94,43 @@ pub struct Channels {
     pub controls: Series<4>,
 }
 
+impl Channels {
+    /// The channels of samples that carry every quantity at each time stamp (a CSV log), so
+    /// that a log at another rate than [`RATE_HZ`] can be put on its grid like the others.
+    pub fn of_samples(samples: &[SensorSample]) -> Self {
+        let mut ch = Self::default();
+        for s in samples {
+            ch.attitude.push(s.t, [s.roll, s.pitch, s.yaw]);
+            ch.velocity_ned.push(s.t, [s.v_north, s.v_east, s.v_down]);
+            ch.rates_frd.push(s.t, [s.p, s.q, s.r]);
+            let u = &s.sticks;
+            ch.controls.push(s.t, [u.col, u.ped, u.lon, u.lat]);
+        }
+        ch
+    }
+}
+
+/// Largest relative difference between a log's mean sample interval and the 50 Hz grid's
+/// for the log to be taken as it is (the identifiers accept each interval within 20 ± 10 ms;
+/// a log whose typical interval differs by more than this is at another rate, and its samples
+/// taken one by one as 50 Hz steps would stretch or squeeze the dynamics).
+pub const RATE_TOLERANCE: f64 = 0.05;
+
+/// The mean interval (s) of samples whose time stamps increase (their span over their
+/// count less one: jitter, even alternating, averages out), `None` below two samples.
+pub fn mean_interval(samples: &[SensorSample]) -> Option<f64> {
+    let (first, last) = (samples.first()?, samples.last()?);
+    (samples.len() > 1).then(|| (last.t - first.t) / (samples.len() - 1) as f64)
+}
+
+/// The log's rate (Hz) when its mean interval is not the 50 Hz grid's (within
+/// [`RATE_TOLERANCE`]); `None` for a 50 Hz log.
+pub fn other_rate(samples: &[SensorSample]) -> Option<f64> {
+    let dt = mean_interval(samples)?;
+    let nominal = 1.0 / RATE_HZ;
+    ((dt - nominal).abs() > RATE_TOLERANCE * nominal && dt > 0.0).then(|| 1.0 / dt)
+}
+
 /// A stretch of the log without gaps, resampled at [`RATE_HZ`].
 pub type Segment = Vec<SensorSample>;
 
@@ -255,6 +292,29 @@ mod tests {
         assert!(s
             .iter()
             .all(|x| x.yaw > -std::f64::consts::PI && x.yaw <= std::f64::consts::PI));
+    }
+
+    fn samples_at(dt: f64, n: usize) -> Vec<SensorSample> {
+        (0..n)
+            .map(|k| SensorSample {
+                t: k as f64 * dt,
+                v_north: k as f64,
+                ..SensorSample::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn other_rate_sees_100_hz_and_40_hz_but_not_jittered_50_hz() {
+        assert!(other_rate(&samples_at(0.010, 50)).is_some_and(|r| (r - 100.0).abs() < 1e-6));
+        assert!(other_rate(&samples_at(0.025, 50)).is_some_and(|r| (r - 40.0).abs() < 1e-6));
+        // 50 Hz with ±2 ms jitter in turn (intervals of 16 and 24 ms).
+        let mut jittered = samples_at(0.020, 51);
+        for (k, s) in jittered.iter_mut().enumerate() {
+            s.t += if k % 2 == 0 { 0.002 } else { -0.002 };
+        }
+        assert_eq!(other_rate(&jittered), None);
+        assert_eq!(other_rate(&samples_at(0.020, 1)), None);
     }
 
     #[test]

@@ -10,7 +10,7 @@ use super::dynamics::State;
 use super::Sticks;
 
 /// One recorded sample (nominally 50 Hz).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct SensorSample {
     /// Sample time (s), on the integration grid.
     pub t: f64,
