@@ -7,7 +7,8 @@
 //! location). Boot and set-up cancel out; what remains is one sample: both identifiers' steps
 //! plus the link's handling of the frames.
 //!
-//! Usage: `step_profile [--covariance] [A B]` (default 5 25). QEMU writes one log line per
+//! Usage: `step_profile [--covariance] [--lines=L] [A B]` (default 5 25; `L` source lines,
+//! default 25). QEMU writes one log line per
 //! instruction (about 100 MB per 10 samples, in the temporary directory, removed afterwards).
 //!
 //! `step_profile --identifier NAME [A B]` (default 150 250) profiles one identifier alone
@@ -344,6 +345,11 @@ fn run() -> Result<(), ProfileError> {
         None => Workload::Link(RlsForm::UdDefault),
     };
     let nums: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    let source_lines = args
+        .iter()
+        .find_map(|a| a.strip_prefix("--lines="))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(25);
     let (a, b) = match (&nums[..], workload) {
         (&[a, b], _) if b > a => (a, b),
         (_, Workload::StepCost(_)) => (150, 250),
@@ -419,7 +425,7 @@ fn run() -> Result<(), ProfileError> {
     );
     let mut v: Vec<_> = by_line.into_iter().collect();
     v.sort_by(|x, y| y.1.total_cmp(&x.1));
-    for (n, d) in v.iter().take(25) {
+    for (n, d) in v.iter().take(source_lines) {
         println!("| `{n}` | {d:.0} | {:.1} % |", 100.0 * d / total);
     }
     Ok(())
