@@ -4,7 +4,7 @@
 
 use core::ops::Range;
 
-use super::{col, column, column_mut, Algorithm, RlsConfig, RlsCounters};
+use super::{col, column, column_mut, Algorithm, RlsConfig, RlsCounters, RlsView};
 use crate::scalar::Real;
 
 /// A run `start..end` of consecutive parameter indices (see `Rls::update_row`'s support).
@@ -440,7 +440,8 @@ impl<T: Real> RlsSlices<'_, T> {
             }
         }
         if lambda < T::one() {
-            if self.ud_trace(f) / lambda <= self.config.max_trace {
+            // trace(P⁺) exactly as `Rls::trace` sums it (the same code).
+            if self.view().trace() / lambda <= self.config.max_trace {
                 let s = T::one() / lambda;
                 for j in 0..self.theta.len() {
                     if let Some(d) = self.factor.get_mut(col(j) + j) {
@@ -453,28 +454,15 @@ impl<T: Real> RlsSlices<'_, T> {
         }
     }
 
-    /// trace(P) of the U-D factors, summed exactly as [`Rls::trace`] does (`diag`: scratch
-    /// of length N).
-    fn ud_trace(&self, diag: &mut [T]) -> T {
-        for d in diag.iter_mut() {
-            *d = T::zero();
+    /// The read view of these slices (the view's `trace` is the windup guard's).
+    #[inline(always)]
+    fn view(&self) -> RlsView<'_, T> {
+        RlsView {
+            config: self.config,
+            theta: self.theta,
+            factor: self.factor,
+            counters: self.counters,
         }
-        for j in 0..self.theta.len() {
-            let Some((&dj, above)) = column(self.factor, j) else {
-                continue;
-            };
-            for (d, &u) in diag.iter_mut().zip(above) {
-                *d += u * u * dj;
-            }
-            if let Some(d) = diag.get_mut(j) {
-                *d += dj;
-            }
-        }
-        let mut t = T::zero();
-        for &d in diag.iter() {
-            t += d;
-        }
-        t
     }
 }
 
