@@ -255,5 +255,64 @@ pub fn flight_markdown(
             l[0][0], l[0][1], l[1][0], l[1][1], l[2][0], l[2][1], d[1][0], d[1][1], d[0][1], d[2][1]
         );
     }
+    s += &regime_bias(envelope);
     Ok(s)
+}
+
+/// Variant whose yaw model is scheduled on side speed too (its r column in [`regime_bias`]).
+const SIDE_SPEED_YAW: &str = "flight yaw on side speed";
+
+/// The flight default's and [`BASELINE`]'s frozen one-step bias on the rates per flight
+/// regime of the envelope verification flight ([`crate::experiments::one_step_bias`]), and
+/// r's for [`SIDE_SPEED_YAW`] when it was run.
+fn regime_bias(envelope: &Metrics) -> String {
+    let find = |n: &str| {
+        envelope
+            .variants
+            .iter()
+            .find(|v| v.name == n && !v.one_step_bias.is_empty())
+    };
+    let (Some(flight), Some(base)) = (find(FLIGHT), find(BASELINE)) else {
+        return String::new();
+    };
+    let side = find(SIDE_SPEED_YAW);
+    let mut s = String::from(
+        "\n### Where the trim is wrong: one-step bias by flight regime\n\n\
+         The frozen models' mean **signed** one-step error on the envelope verification flight, \
+         per regime of the sample predicted from (heading-frame velocity; \
+         `rotorid_cli::experiments::Regime`), divided by the sample period: the angular \
+         acceleration (deg/s²) a model predicts that is not there. The mean absolute one-step \
+         error hides it under the gyro noise; a free run integrates it into a drift of the rate \
+         (which its damping δ only bounds), so a regime with a large bias is where that \
+         state's free run is lost. A bias of the same sign in both sideways directions is a \
+         yaw moment that is even in the side speed (the main rotor's torque falls with \
+         airspeed in any direction; the tail rotor's thrust changes steeply with the flow \
+         through it), which no consequent term of the rate models and no set on forward speed \
+         can represent. The last column schedules the yaw model on side speed too \
+         (`flight yaw on side speed`, 9 rules): what scheduling alone can remove.\n\n",
+    );
+    s += "| regime | samples | flight: q | flight: r | flight: p | extended plain: q | extended plain: r | extended plain: p | yaw on side speed: r |\n";
+    s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (k, (f, b)) in flight
+        .one_step_bias
+        .iter()
+        .zip(base.one_step_bias.iter())
+        .enumerate()
+    {
+        let side_r = side
+            .and_then(|v| v.one_step_bias.get(k))
+            .map_or("–".to_string(), |x| format!("{:+.1}", x.bias_per_s[4]));
+        s += &format!(
+            "| {} | {} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {side_r} |\n",
+            f.regime.label(),
+            f.samples,
+            f.bias_per_s[3],
+            f.bias_per_s[4],
+            f.bias_per_s[5],
+            b.bias_per_s[3],
+            b.bias_per_s[4],
+            b.bias_per_s[5],
+        );
+    }
+    s
 }

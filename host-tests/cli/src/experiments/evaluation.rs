@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use rotorid_sim::flights::SAMPLE_RATE_HZ;
 
 use super::error::EvaluateError;
+use super::regimes::{one_step_bias, RegimeBias};
 use super::variants::{Identifier, ModelParameters, Variant};
 
 /// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`](fn@super::variants).
@@ -166,6 +167,9 @@ pub struct VariantResult {
     pub free_run_diverged: usize,
     /// Verification samples the frozen model could not predict from (out of range).
     pub rejected_verification: usize,
+    /// Frozen one-step bias per flight regime of the verification log ([`one_step_bias`]).
+    #[serde(default)]
+    pub one_step_bias: Vec<RegimeBias>,
     /// Frozen one-step predictions: `one_step_predictions[k]` predicts sample k+1 (`None`
     /// where refused).
     #[serde(skip)]
@@ -315,6 +319,7 @@ pub fn evaluate(
         free_run_windows: free.windows,
         free_run_diverged: free.diverged,
         rejected_verification: rejected,
+        one_step_bias: one_step_bias(verification, &preds, 1.0 / f64::from(SAMPLE_RATE_HZ)),
         one_step_predictions: preds,
         free_run_trace: free.trace,
         parameters: id.parameters(),

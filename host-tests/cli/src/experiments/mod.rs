@@ -4,14 +4,17 @@
 //! * [`one_step_errors`] and [`format_table4`]: the Table 4 analogue.
 //! * [`variants`], [`train`], [`free_run`], [`evaluate`]: every identifier the tool compares,
 //!   trained on identification logs and measured on verification logs.
+//! * [`Regime`], [`one_step_bias`]: where in the flight a model's trim is wrong.
 //! * [`ParametersError`], [`EvaluateError`]: what can fail on the way.
 
 mod error;
 mod evaluation;
+mod regimes;
 mod table4;
 mod variants;
 
 pub use error::*;
 pub use evaluation::*;
+pub use regimes::*;
 pub use table4::*;
 pub use variants::*;

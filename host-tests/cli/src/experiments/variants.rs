@@ -1,12 +1,16 @@
 //! The identifier variants the tool compares, behind one object-safe [`Identifier`] trait
 //! with parameter export/import as plain data.
 
-use rotorid::hover::{flight_sets, BodyFrame, LocalVelocityModel, Premise, VelocityStructure};
+use rotorid::hover::{
+    flight_sets, BodyFrame, LocalRateModel, LocalVelocityModel, Premise, RateAxis, RateStructure,
+    VelocityStructure,
+};
 use rotorid::hover::{
     HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
 };
 use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Algorithm, RlsState};
+use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
@@ -423,6 +427,11 @@ pub fn variants() -> Vec<Variant> {
             build: |_| Ok(Box::new(flight_with_inertial_drag()?)),
         },
         Variant {
+            name: "flight yaw on side speed",
+            description: "the flight default with its yaw model scheduled on forward and side speed (3 x 3 rules; side sets at -5, 0, 5 m/s, σ 2.5): whether the yaw trim in sideways flight is a matter of scheduling",
+            build: |_| Ok(Box::new(flight_with_side_speed_yaw()?)),
+        },
+        Variant {
             name: "flight data sets",
             description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
             build: |training| {
@@ -453,6 +462,42 @@ fn flight_with_inertial_drag() -> Result<FlightIdentifier<f32>, rotorid::Error> 
         velocity,
         flight.pitch_model().clone(),
         flight.yaw_model().clone(),
+        flight.roll_model().clone(),
+        config,
+    )
+}
+
+/// [`FlightIdentifier`] with a 9-rule yaw model (see [`flight_with_side_speed_yaw`]).
+type SideSpeedYawIdentifier = HoverIdentifier<
+    f32,
+    LocalVelocityModel<f32, 3, 7, 28>,
+    LocalRateModel<f32, 3, 7, 28>,
+    LocalRateModel<f32, 9, 7, 28>,
+    LocalRateModel<f32, 3, 7, 28>,
+>;
+
+/// [`FlightIdentifier`] whose yaw model is scheduled on the side speed too: the forward-speed
+/// sets times three side-speed sets (left shoulder at −5 m/s, Gaussian at 0, right shoulder at
+/// 5 m/s, σ = 2.5 m/s: the forward sets' spacing and spread), 9 rules learnt locally; the
+/// other models, the terms and the settings are the flight default's.
+fn flight_with_side_speed_yaw() -> Result<SideSpeedYawIdentifier, rotorid::Error> {
+    let config = HoverConfig::default();
+    let flight = FlightIdentifier::<f32>::flight(config, flight_sets())?;
+    let side = rotorid::hover::table3::three_sets((-5.0, 2.5), (0.0, 2.5), (5.0, 2.5));
+    let rules = RuleBase::new([flight_sets(), side, PremiseSets::new()])?;
+    let structure = RateStructure::Flight;
+    let yaw = LocalRateModel::<f32, 9, 7, 28>::with_scaling(
+        RateAxis::Yaw,
+        rules,
+        structure,
+        Premise::HeadingVelocity,
+        config.rls,
+        structure.helicopter_scaling(),
+    )?;
+    HoverIdentifier::new(
+        flight.velocity_model().clone(),
+        flight.pitch_model().clone(),
+        yaw,
         flight.roll_model().clone(),
         config,
     )
