@@ -149,8 +149,9 @@ History on the same flight (mean instructions per fuzzy step):
   visit only the fired rules' parameters (runs of indices). Same bits as visiting all (the
   golden files did not change). This flight fires 3 of the 27 translational rules, so the
   velocity model's updates cost what 6 parameters cost, not 54; the rate models fire most
-  of their rules. Models of at most 4 parameters (the plain identifier's) have nothing to
-  skip and take the bare estimator's dense update instead, inlined for their size.
+  of their rules. Models of one rule or of at most 16 parameters (the plain identifiers', and
+  each rule of local learning) have little to skip and take the bare estimator's dense update
+  instead, inlined for their size.
 * **Trigonometry**: \`libm\`'s \`sincosf\` computes in f64, i.e. soft-float on the M4F
   (\`__muldf3\`, \`__adddf3\`): about 2 000 instructions per call, 3 calls per step (the
   previous sample's body frame is kept). It is bit-identical to separate \`sinf\` and \`cosf\`.
