@@ -257,7 +257,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     /// the model unchanged since: every rule with `ξ_i ≥` [`MIN_LOCAL_STRENGTH`] takes each row
     /// weighted by `√ξ_i`, forgetting with `λ_i` once per sample.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
-        self.kept = Kept::none();
+        // θ changes: what was kept is stale (clearing the flag is enough, and cheaper than
+        // writing a whole `Kept::none()` at every step).
+        self.kept.valid = false;
         let min = T::lit(MIN_LOCAL_STRENGTH);
         let last = prepared.count.saturating_sub(1);
         for (&w, rls) in prepared.strengths.iter().zip(self.local.iter_mut()) {

@@ -16,12 +16,14 @@ use rotorid::{
     PaperPlainIdentifier,
 };
 
-/// Steps per identifier.
+/// Steps per identifier (the table's run).
 pub const STEPS: u32 = 400;
 /// Steps before measuring (every rule has fired by then).
 pub const WARM_UP: u32 = 150;
 
-/// Sample k of the stream (50 Hz).
+/// Sample k of the stream (50 Hz). Not inlined, so that its instructions are the same
+/// addresses in every loop (`step_profile --identifier` subtracts the stream's).
+#[inline(never)]
 pub fn sample(k: u32) -> HoverSample<f32> {
     let t = k as f32 * 0.02;
     let s = |w: f32, phase: f32| libm::sinf(w * t + phase);
@@ -74,39 +76,66 @@ fn fnv(hash: u32, word: u32) -> u32 {
         .fold(hash, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
 }
 
+/// Which identifiers a run steps, and how far.
+#[derive(Copy, Clone)]
+pub struct Selection<'a> {
+    /// Only the identifier of this name (`None`: every one).
+    pub only: Option<&'a str>,
+    /// Steps per identifier.
+    pub steps: u32,
+}
+
+impl Selection<'_> {
+    /// The table's run: every identifier, [`STEPS`] steps.
+    pub const ALL: Selection<'static> = Selection {
+        only: None,
+        steps: STEPS,
+    };
+
+    fn includes(&self, name: &str) -> bool {
+        self.only.is_none_or(|n| n == name)
+    }
+}
+
+/// The name that selects no identifier but the stream alone: the same loop (samples, stopwatch,
+/// hash of six words per step) without a step, which `step_profile --identifier` subtracts.
+pub const STREAM_ONLY: &str = "stream";
+
 macro_rules! measure {
-    ($name:expr, $build:expr, $timer:expr, $report:expr) => {{
-        let built: Result<_, Error> = $build;
-        if let Ok(mut id) = built {
-            let (mut sum, mut max, mut rejected) = (0u64, 0u64, 0u32);
-            let mut hash = 0x811c_9dc5u32;
-            for k in 0..STEPS {
-                let s = sample(k);
-                $timer.restart();
-                let out = id.step(&s);
-                let t = $timer.elapsed();
-                match out {
-                    Ok(o) => {
-                        for x in o.prediction.to_array() {
-                            hash = fnv(hash, x.to_bits());
+    ($name:expr, $build:expr, $selection:expr, $timer:expr, $report:expr) => {{
+        if $selection.includes($name) {
+            let built: Result<_, Error> = $build;
+            if let Ok(mut id) = built {
+                let (mut sum, mut max, mut rejected) = (0u64, 0u64, 0u32);
+                let mut hash = 0x811c_9dc5u32;
+                for k in 0..$selection.steps {
+                    let s = sample(k);
+                    $timer.restart();
+                    let out = id.step(&s);
+                    let t = $timer.elapsed();
+                    match out {
+                        Ok(o) => {
+                            for x in o.prediction.to_array() {
+                                hash = fnv(hash, x.to_bits());
+                            }
                         }
+                        Err(_) => rejected += 1,
                     }
-                    Err(_) => rejected += 1,
+                    if k >= WARM_UP {
+                        sum += t;
+                        max = max.max(t);
+                    }
                 }
-                if k >= WARM_UP {
-                    sum += t;
-                    max = max.max(t);
-                }
+                let steps = $selection.steps.saturating_sub(WARM_UP);
+                $report(&StepCost {
+                    name: $name,
+                    mean_ticks: sum / u64::from(steps.max(1)),
+                    max_ticks: max,
+                    steps,
+                    rejected,
+                    hash,
+                });
             }
-            let steps = STEPS - WARM_UP;
-            $report(&StepCost {
-                name: $name,
-                mean_ticks: sum / u64::from(steps),
-                max_ticks: max,
-                steps,
-                rejected,
-                hash,
-            });
         }
     }};
 }
@@ -121,49 +150,92 @@ pub trait Timer {
 
 /// Measures every identifier that fits the stack (all but `ExtendedFuzzyIdentifier`, 27 KiB)
 /// and reports each.
-#[inline(never)]
 pub fn run(timer: &mut dyn Timer, report: &mut dyn FnMut(&StepCost)) {
+    run_selected(Selection::ALL, timer, report);
+}
+
+/// [`run`] for the selected identifiers and step count (`step_profile --identifier` traces
+/// one identifier for two step counts).
+#[inline(never)]
+pub fn run_selected(
+    selection: Selection<'_>,
+    timer: &mut dyn Timer,
+    report: &mut dyn FnMut(&StepCost),
+) {
+    if selection.only == Some(STREAM_ONLY) {
+        stream_only(selection.steps, timer, report);
+        return;
+    }
     let c = HoverConfig::<f32>::default();
     measure!(
         "FlightIdentifier",
         FlightIdentifier::flight(c, flight_sets()),
+        selection,
         timer,
         report
     );
     measure!(
         "FlightPlainIdentifier",
         FlightPlainIdentifier::flight_plain(c),
+        selection,
         timer,
         report
     );
     measure!(
         "ExtendedPlainIdentifier",
         ExtendedPlainIdentifier::extended_plain(c),
+        selection,
         timer,
         report
     );
     measure!(
         "ExtendedLocalIdentifier",
         ExtendedLocalIdentifier::extended_local(c),
+        selection,
         timer,
         report
     );
     measure!(
         "PaperLocalIdentifier",
         PaperLocalIdentifier::paper_local(HoverConfig::paper_robust()),
+        selection,
         timer,
         report
     );
     measure!(
         "PaperPlainIdentifier",
         PaperPlainIdentifier::paper_plain(HoverConfig::paper_robust()),
+        selection,
         timer,
         report
     );
     measure!(
         "PaperFuzzyIdentifier",
         PaperFuzzyIdentifier::paper_fuzzy(HoverConfig::paper_robust()),
+        selection,
         timer,
         report
     );
+}
+
+/// The loop of `measure!` without an identifier (see [`STREAM_ONLY`]).
+fn stream_only(steps: u32, timer: &mut dyn Timer, report: &mut dyn FnMut(&StepCost)) {
+    let mut hash = 0x811c_9dc5u32;
+    for k in 0..steps {
+        let s = core::hint::black_box(sample(k));
+        timer.restart();
+        let t = timer.elapsed();
+        for x in s.velocity.into_iter().chain(s.rates) {
+            hash = fnv(hash, x.to_bits());
+        }
+        core::hint::black_box(t);
+    }
+    report(&StepCost {
+        name: STREAM_ONLY,
+        mean_ticks: 0,
+        max_ticks: 0,
+        steps,
+        rejected: 0,
+        hash,
+    });
 }

@@ -643,15 +643,16 @@ fn single_term<T: Real, const D: usize>(terms: &[T; D]) -> Term<T> {
     found
 }
 
-/// `Σ_s Δ̃_s b_s` over the non-zero terms: an output's prediction from [`TsRls`]'s block
-/// products.
+/// `Σ_s Δ̃_s b_s`: an output's prediction from [`TsRls`]'s block products.
+///
+/// Every term is summed, zero or not, without a branch (cheaper on the Cortex-M4F than a test
+/// per term). The same bits as summing the non-zero terms only: `b` is finite (θ is), so a
+/// zero `Δ̃_s` adds ±0, and a sum from +0 is never −0, so adding ±0 leaves it as it is.
 #[inline]
 pub(crate) fn combine<T: Real, const D: usize>(terms: &[T; D], b: &[T; D]) -> T {
     let mut sum = T::zero();
     for (&d, &bs) in terms.iter().zip(b.iter()) {
-        if d != T::zero() {
-            sum += d * bs;
-        }
+        sum += d * bs;
     }
     sum
 }

@@ -1,6 +1,9 @@
 //! Prints the cost of every identifier's step on a stream that fires every rule, as a
 //! markdown table on the semihosting console, then exits (run by `scripts/cost.sh` under
 //! `qemu-system-arm -icount shift=0`, where one SysTick tick is 40 instructions).
+//!
+//! Command line (semihosting, QEMU's `-append`): none for the whole table, or
+//! `IDENTIFIER STEPS` to step only that identifier (`step_profile --identifier` traces it).
 #![no_std]
 #![no_main]
 
@@ -16,7 +19,7 @@ mod mavlink_port;
 
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
-use firmware_example::step_cost::{self, StepCost, Timer};
+use firmware_example::step_cost::{self, Selection, StepCost, Timer};
 
 struct SysTickTimer(board::Stopwatch);
 
@@ -35,11 +38,27 @@ fn main() -> ! {
         board::exit(board::EXIT_INIT)
     };
     let mut timer = SysTickTimer(board::Stopwatch::new(cp.SYST));
+    // Program name, then the optional `IDENTIFIER STEPS`.
+    let Ok(args) = semihosting::experimental::env::args::<256>() else {
+        board::exit(board::EXIT_INIT)
+    };
+    let mut words = (&args).skip(1).filter_map(Result::ok);
+    let selection = match (words.next(), words.next().map(str::parse)) {
+        (None, _) => Selection::ALL,
+        (Some(name), Some(Ok(steps))) => Selection {
+            only: Some(name),
+            steps,
+        },
+        _ => {
+            semihosting::println!("usage: step-cost [IDENTIFIER STEPS]");
+            board::exit(board::EXIT_INIT)
+        }
+    };
     semihosting::println!(
         "| identifier | mean instructions/step | worst instructions/step | steps | rejected | predictions (FNV-1a of the bits) |"
     );
     semihosting::println!("|---|---:|---:|---:|---:|---|");
-    step_cost::run(&mut timer, &mut |c: &StepCost| {
+    step_cost::run_selected(selection, &mut timer, &mut |c: &StepCost| {
         semihosting::println!(
             "| {} | {} | {} | {} | {} | {:08x} |",
             c.name,
