@@ -3,7 +3,7 @@
 # the Figure 2-5 analogues, free-run errors, metrics.json, exported parameters). Every number
 # in docs/results.md comes from this script: it flies the identification flight (seed 1, the
 # four Table 2 sweeps, 255 s) and a verification flight (seed 2, 300 s), once with realistic
-# sensors (noise, turbulence) and once clean, and the envelope flights (seeds 1 and 2), then the
+# sensors (noise, turbulence), once with three times the noise and once clean, and the envelope flights (seeds 1 and 2), then the
 # hover and envelope pairs again on the second plant (`--plant flybarless600`); runs
 # `rotorid identify` on each pair and writes the document from the metrics files.
 # Deterministic: same seeds, same bits.
@@ -32,6 +32,8 @@ cd "$work"
 "$bin" simulate --kind verification --seed 2 --duration 300 -o verify.csv
 "$bin" simulate --kind identification --seed 1 --clean -o ident-clean.csv
 "$bin" simulate --kind verification --seed 2 --duration 300 --clean -o verify-clean.csv
+"$bin" simulate --kind identification --seed 1 --noise-scale 3 -o ident-noisy.csv
+"$bin" simulate --kind verification --seed 2 --duration 300 --noise-scale 3 -o verify-noisy.csv
 "$bin" simulate --kind envelope --seed 1 -o envelope.csv
 "$bin" simulate --kind envelope-verification --seed 2 -o envelope-verify.csv
 # The second plant (docs/results.md "Second plant"): the hover pair and the envelope pair.
@@ -44,6 +46,9 @@ second=flybarless600
 mkdir -p "$root/docs/figures"
 "$bin" identify --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
 "$bin" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
+mkdir -p "$root/docs/figures/noisy"
+"$bin" identify --train ident-noisy.csv --verify verify-noisy.csv --out "$root/docs/figures/noisy" \
+  --no-plots
 mkdir -p "$root/docs/figures/envelope"
 "$bin" identify --train envelope.csv --verify envelope-verify.csv --out "$root/docs/figures/envelope" \
   --plot-span 60
@@ -56,5 +61,6 @@ end=$(date +%s)
 "$bin" report --realistic "$root/docs/figures/metrics.json" --clean clean/metrics.json \
   --envelope "$root/docs/figures/envelope/metrics.json" \
   --second-plant $second --second-hover "$root/docs/figures/$second/metrics.json" \
-  --second-envelope "$root/docs/figures/$second/envelope/metrics.json" --elapsed $((end - start)) -o "$root/docs/results.md"
+  --second-envelope "$root/docs/figures/$second/envelope/metrics.json" \
+  --noisy-hover "$root/docs/figures/noisy/metrics.json" --elapsed $((end - start)) -o "$root/docs/results.md"
 echo "wrote docs/results.md and docs/figures/ in $((end - start)) s"

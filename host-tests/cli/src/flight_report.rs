@@ -43,6 +43,37 @@ fn ratios(m: &Metrics, pick: impl Fn(&VariantResult) -> [f64; 6]) -> String {
     s
 }
 
+/// Every variant against [`BASELINE`] on the hover pair flown with noisier sensors (free run
+/// and one step), and the flight default's worst hover ratio against [`HOVER_TOLERANCE`].
+pub fn noisy_markdown(noisy: &Metrics) -> String {
+    let mut s = String::new();
+    let find = |n: &str| noisy.variants.iter().find(|v| v.name == n);
+    if let (Some(f), Some(b)) = (find(FLIGHT), find(BASELINE)) {
+        let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
+        let worst = |a: &[f64; 6], b: &[f64; 6]| {
+            (0..6)
+                .map(|i| (a[i] / b[i], labels[i]))
+                .fold((0.0f64, ""), |acc, x| if x.0 > acc.0 { x } else { acc })
+        };
+        let (w1, l1) = worst(&f.one_step, &b.one_step);
+        let (w2, l2) = worst(&f.free_run, &b.free_run);
+        s += &format!(
+            "* Flight default, hover one step: worst ratio {w1:.3} ({l1}) {}\n\
+             * Flight default, hover free run: worst ratio {w2:.3} ({l2}) {}\n\n",
+            mark(w1 <= HOVER_TOLERANCE),
+            mark(w2 <= HOVER_TOLERANCE)
+        );
+    }
+    s += &format!(
+        "Free run {} s, ratio to extended plain:\n\n",
+        noisy.window_s
+    );
+    s += &ratios(noisy, |v| v.free_run);
+    s += "\nOne step (θ frozen), ratio to extended plain:\n\n";
+    s += &ratios(noisy, |v| v.one_step);
+    s
+}
+
 /// The flight default's and the baseline's results: hover flight, hover baseline, envelope
 /// flight, envelope baseline.
 fn flight_and_baseline(hover: &Metrics, envelope: &Metrics) -> Option<[VariantResult; 4]> {

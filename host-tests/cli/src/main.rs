@@ -24,7 +24,7 @@ use rotorid_cli::report::{self, FigureError, Metrics, ReportError, Table4};
 use rotorid_cli::results::SecondPlant;
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
-use rotorid_sim::plant::{Airframe, FlightConfig, PlantError};
+use rotorid_sim::plant::{Airframe, FlightConfig, NoiseStd, PlantError};
 
 #[derive(Parser)]
 #[command(
@@ -88,6 +88,10 @@ enum Command {
         /// No measurement noise and no turbulence (jitter stays).
         #[arg(long)]
         clean: bool,
+        /// Measurement noise as a multiple of the default (GPS/INS-like: 0.02 m/s, 0.3 deg/s,
+        /// 0.2 deg): a noisier or cleaner sensor set on the same flight. Ignored with --clean.
+        #[arg(long, default_value_t = 1.0)]
+        noise_scale: f64,
         /// Simulated helicopter; the pilot and the inputs are scaled to it.
         #[arg(long, value_enum, default_value_t = Plant::Xcell60)]
         plant: Plant,
@@ -154,6 +158,9 @@ enum Command {
         /// params-flight.json).
         #[arg(long, requires = "second_hover")]
         second_envelope: Option<PathBuf>,
+        /// metrics.json of the hover run with noisier sensors (`simulate --noise-scale 3`).
+        #[arg(long)]
+        noisy_hover: Option<PathBuf>,
         /// Seconds the results script took to simulate and identify (for the doc).
         #[arg(long)]
         elapsed: Option<f64>,
@@ -168,6 +175,8 @@ enum Command {
 enum CliError {
     #[error("--duration must be in (0, 36000] s, got {0}")]
     Duration(f64),
+    #[error("--noise-scale must be in [0, 100], got {0}")]
+    NoiseScale(f64),
     #[error(
         "--duration {given} s: the identification flight (the four Table 2 sweeps) lasts {full} s; \
          give at most that, or fly a verification flight for longer"
@@ -255,9 +264,17 @@ fn main() -> ExitCode {
             seed,
             duration,
             clean,
+            noise_scale,
             plant,
             output,
-        } => run_simulate(kind, seed, duration, clean, plant.into(), &output),
+        } => run_simulate(
+            kind,
+            seed,
+            duration,
+            Sensors { clean, noise_scale },
+            plant.into(),
+            &output,
+        ),
         Command::Identify {
             train,
             verify,
@@ -283,6 +300,7 @@ fn main() -> ExitCode {
             second_plant,
             second_hover,
             second_envelope,
+            noisy_hover,
             elapsed,
             output,
         } => {
@@ -294,6 +312,7 @@ fn main() -> ExitCode {
                 &clean,
                 envelope.as_deref(),
                 second,
+                noisy_hover.as_deref(),
                 elapsed,
                 &output,
             )
@@ -308,14 +327,25 @@ fn main() -> ExitCode {
     }
 }
 
+/// The simulated sensors: none (`clean`, still air too), or the default noise times
+/// `noise_scale`.
+struct Sensors {
+    clean: bool,
+    noise_scale: f64,
+}
+
 fn run_simulate(
     kind: Kind,
     seed: u64,
     duration: Option<f64>,
-    clean: bool,
+    sensors: Sensors,
     airframe: Airframe,
     output: &Path,
 ) -> Result<(), CliError> {
+    let scale = sensors.noise_scale;
+    if !(scale.is_finite() && (0.0..=100.0).contains(&scale)) {
+        return Err(CliError::NoiseScale(scale));
+    }
     if let Some(d) = duration {
         if !(d.is_finite() && d > 0.0 && d <= 36_000.0) {
             return Err(CliError::Duration(d));
@@ -327,10 +357,18 @@ fn run_simulate(
             return Err(CliError::LongerThanSweeps { given: d, full });
         }
     }
-    let sensors = if clean {
+    let sensors = if sensors.clean {
         FlightConfig::default()
     } else {
-        FlightConfig::realistic(seed, 0.0)
+        let realistic = FlightConfig::realistic(seed, 0.0);
+        FlightConfig {
+            noise: realistic.noise.map(|n| NoiseStd {
+                velocity: n.velocity * scale,
+                rate: n.rate * scale,
+                angle: n.angle * scale,
+            }),
+            ..realistic
+        }
     };
     let config = FlightConfig { seed, ..sensors }
         .for_airframe(airframe)
@@ -527,6 +565,7 @@ fn run_report(
     clean: &Path,
     envelope: Option<&Path>,
     second: Option<(Airframe, PathBuf, PathBuf)>,
+    noisy: Option<&Path>,
     elapsed: Option<f64>,
     output: &Path,
 ) -> Result<(), CliError> {
@@ -555,6 +594,7 @@ fn run_report(
         &load(clean)?,
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),
         second.as_ref(),
+        noisy.map(load).transpose()?.as_ref(),
         elapsed,
     )?;
     write_text(output, md)

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use rotorid_sim::plant::{trim_hover, Airframe};
 
-use crate::flight_report::{flight_by_state, flight_markdown};
+use crate::flight_report::{flight_by_state, flight_markdown, noisy_markdown};
 use crate::report::*;
 
 /// The runs of the second plant: its hover pair's metrics and its envelope pair's (with the
@@ -136,6 +136,7 @@ pub fn results_markdown(
     clean: &Metrics,
     envelope: Option<(&Metrics, &Path)>,
     second: Option<&SecondPlant<'_>>,
+    noisy: Option<&Metrics>,
     elapsed_s: Option<f64>,
 ) -> Result<String, ReportError> {
     let flight = match envelope {
@@ -166,6 +167,13 @@ pub fn results_markdown(
     let subs: Vec<(&str, String)> = vec![
         ("{{FLIGHT}}", flight),
         ("{{SECOND_PLANT}}", second_plant),
+        (
+            "{{NOISY}}",
+            noisy.map_or_else(
+                || "(not run: `rotorid report` was given no `--noisy-hover` metrics)\n".to_string(),
+                noisy_markdown,
+            ),
+        ),
         ("{{TABLE4}}", table4_markdown(t)),
         ("{{TABLE4_CLEAN}}", table4_markdown(tc)),
         ("{{VARIANTS}}", variants_markdown(realistic)),
