@@ -27,6 +27,14 @@ fn mark(ok: bool) -> &'static str {
     }
 }
 
+/// The largest ratio `a[i] / b[i]` over the six states, with the state's label.
+fn worst_ratio(a: &[f64; 6], b: &[f64; 6]) -> (f64, &'static str) {
+    const LABELS: [&str; 6] = ["v_x", "v_y", "v_z", "q", "r", "p"];
+    (0..6)
+        .map(|i| (a[i] / b[i], LABELS[i]))
+        .fold((0.0f64, ""), |acc, x| if x.0 > acc.0 { x } else { acc })
+}
+
 fn ratios(m: &Metrics, pick: impl Fn(&VariantResult) -> [f64; 6]) -> String {
     let Some(base) = m.variants.iter().find(|v| v.name == BASELINE) else {
         return format!("(no `{BASELINE}` variant in the metrics)\n");
@@ -49,14 +57,8 @@ pub fn noisy_markdown(noisy: &Metrics) -> String {
     let mut s = String::new();
     let find = |n: &str| noisy.variants.iter().find(|v| v.name == n);
     if let (Some(f), Some(b)) = (find(FLIGHT), find(BASELINE)) {
-        let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
-        let worst = |a: &[f64; 6], b: &[f64; 6]| {
-            (0..6)
-                .map(|i| (a[i] / b[i], labels[i]))
-                .fold((0.0f64, ""), |acc, x| if x.0 > acc.0 { x } else { acc })
-        };
-        let (w1, l1) = worst(&f.one_step, &b.one_step);
-        let (w2, l2) = worst(&f.free_run, &b.free_run);
+        let (w1, l1) = worst_ratio(&f.one_step, &b.one_step);
+        let (w2, l2) = worst_ratio(&f.free_run, &b.free_run);
         s += &format!(
             "* Flight default, hover one step: worst ratio {w1:.3} ({l1}) {}\n\
              * Flight default, hover free run: worst ratio {w2:.3} ({l2}) {}\n\n",
@@ -91,15 +93,9 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
     let Some([hf, hb, ef, eb]) = flight_and_baseline(hover, envelope) else {
         return "(flight or baseline variant missing)\n".into();
     };
-    let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
     let mut s = String::new();
-    let worst = |a: &[f64; 6], b: &[f64; 6]| {
-        (0..6)
-            .map(|i| (a[i] / b[i], labels[i]))
-            .fold((0.0f64, ""), |acc, x| if x.0 > acc.0 { x } else { acc })
-    };
-    let (w1, l1) = worst(&hf.one_step, &hb.one_step);
-    let (w2, l2) = worst(&hf.free_run, &hb.free_run);
+    let (w1, l1) = worst_ratio(&hf.one_step, &hb.one_step);
+    let (w2, l2) = worst_ratio(&hf.free_run, &hb.free_run);
     s += &format!(
         "* Hover, one step: worst ratio {w1:.3} ({l1}) {} (at most {HOVER_TOLERANCE} on every state)\n",
         mark(w1 <= HOVER_TOLERANCE)
