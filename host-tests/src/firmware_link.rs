@@ -190,6 +190,32 @@ pub fn build_firmware() -> Result<PathBuf, LinkError> {
         .map_err(LinkError::Build)
 }
 
+/// Builds the firmware (with its `step-cost` binary) and returns a `qemu-system-arm` command
+/// that runs `step-cost` on `mps2-an386` with `-icount shift=0` (one SysTick tick = 40
+/// instructions) and semihosting on, the serial port and monitor off; add `-append` arguments
+/// or trace options before running it.
+pub fn step_cost_qemu() -> Result<Command, LinkError> {
+    build_firmware()?;
+    let mut cmd = Command::new("qemu-system-arm");
+    cmd.args([
+        "-cpu",
+        "cortex-m4",
+        "-machine",
+        "mps2-an386",
+        "-display",
+        "none",
+    ])
+    .args(["-monitor", "none", "-serial", "null", "-icount", "shift=0"])
+    .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
+    .arg(step_cost_elf());
+    Ok(cmd)
+}
+
+/// The ELF of `firmware-example`'s `step-cost` binary (built by [`step_cost_qemu`]).
+pub fn step_cost_elf() -> PathBuf {
+    firmware_dir().join("target/thumbv7em-none-eabihf/release/step-cost")
+}
+
 /// Finds `defmt-print` on `PATH` or in cargo's bin folder.
 fn defmt_print() -> Option<PathBuf> {
     let mut dirs: Vec<PathBuf> = std::env::var_os("PATH")

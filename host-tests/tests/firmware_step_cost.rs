@@ -10,7 +10,7 @@ mod step_cost;
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use host_tests::firmware_link::{build_firmware, firmware_dir};
+use host_tests::firmware_link::step_cost_qemu;
 use step_cost::{StepCost, Timer};
 
 struct NoTimer;
@@ -36,20 +36,8 @@ fn every_identifier_is_bit_identical_on_the_cortex_m4f() {
         assert_eq!(c.rejected, 0, "{}", c.name);
         host.insert(c.name.to_string(), format!("{:08x}", c.hash));
     });
-    build_firmware().expect("firmware builds");
-    let elf = firmware_dir().join("target/thumbv7em-none-eabihf/release/step-cost");
-    let out = Command::new("qemu-system-arm")
-        .args([
-            "-cpu",
-            "cortex-m4",
-            "-machine",
-            "mps2-an386",
-            "-display",
-            "none",
-        ])
-        .args(["-monitor", "none", "-serial", "null", "-icount", "shift=0"])
-        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
-        .arg(&elf)
+    let out = step_cost_qemu()
+        .expect("firmware builds")
         .output()
         .expect("qemu runs");
     assert!(out.status.success(), "step-cost exited with {}", out.status);

@@ -22,7 +22,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
-use host_tests::firmware_link::{build_firmware, firmware_dir, BootOptions, LinkError};
+use host_tests::firmware_link::{step_cost_elf, step_cost_qemu, BootOptions, LinkError};
 use host_tests::onboard::{Onboard, OnboardError};
 use rotorid_cli::error_chain::Chain;
 use rotorid_link::msg::{RlsForm, SampleMode, SampleMsg};
@@ -177,21 +177,8 @@ fn run_step_cost(
     steps: usize,
     qemu_args: &[String],
 ) -> Result<PathBuf, ProfileError> {
-    build_firmware()?;
-    let elf = firmware_dir().join("target/thumbv7em-none-eabihf/release/step-cost");
     let tool = "qemu-system-arm";
-    let status = Command::new(tool)
-        .args([
-            "-cpu",
-            "cortex-m4",
-            "-machine",
-            "mps2-an386",
-            "-display",
-            "none",
-        ])
-        .args(["-monitor", "none", "-serial", "null", "-icount", "shift=0"])
-        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
-        .arg(&elf)
+    let status = step_cost_qemu()?
         .arg("-append")
         .arg(format!("{identifier} {steps}"))
         .args(qemu_args)
@@ -205,7 +192,7 @@ fn run_step_cost(
             status,
         });
     }
-    Ok(elf)
+    Ok(step_cost_elf())
 }
 
 /// Function symbols of the ELF: (start, end, demangled name), sorted.
