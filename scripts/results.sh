@@ -43,6 +43,48 @@ second=flybarless600
 "$bin" simulate --plant $second --kind envelope --seed 1 -o second-envelope.csv
 "$bin" simulate --plant $second --kind envelope-verification --seed 2 -o second-envelope-verify.csv
 
+# "What limits the flight default": each pair again with one thing changed (no sensor noise in
+# training, no sensor noise at all, still air and no noise), and the hover pair verified on
+# other seeds, on both plants. Metrics land in conditions/ (not kept), the table in results.md.
+conditions=()
+for plant in xcell60 $second; do
+  case $plant in xcell60) title="X-Cell 60" ;; *) title="flybarless 600" ;; esac
+  p=(--plant $plant)
+  "$bin" simulate "${p[@]}" --kind identification --seed 1 --noise-scale 0 -o $plant-ident-n0.csv
+  "$bin" simulate "${p[@]}" --kind verification --seed 2 --duration 300 --noise-scale 0 -o $plant-verify-n0.csv
+  "$bin" simulate "${p[@]}" --kind identification --seed 1 --clean -o $plant-ident-c.csv
+  "$bin" simulate "${p[@]}" --kind verification --seed 2 --duration 300 --clean -o $plant-verify-c.csv
+  "$bin" simulate "${p[@]}" --kind envelope --seed 1 --noise-scale 0 -o $plant-envelope-n0.csv
+  "$bin" simulate "${p[@]}" --kind envelope-verification --seed 2 --noise-scale 0 -o $plant-envelope-verify-n0.csv
+  "$bin" simulate "${p[@]}" --kind envelope --seed 1 --clean -o $plant-envelope-c.csv
+  "$bin" simulate "${p[@]}" --kind envelope-verification --seed 2 --clean -o $plant-envelope-verify-c.csv
+  if [ $plant = xcell60 ]; then hover=(ident.csv verify.csv); envelope=(envelope.csv envelope-verify.csv)
+  else hover=(second-ident.csv second-verify.csv); envelope=(second-envelope.csv second-envelope-verify.csv); fi
+  for kind in hover envelope; do
+    if [ $kind = hover ]; then pair=("${hover[@]}"); t=ident; v=verify
+    else pair=("${envelope[@]}"); t=envelope; v=envelope-verify; fi
+    group="$title, $kind pair"
+    while IFS='|' read -r label train verify; do
+      out=conditions/$plant-$kind-$(echo "$label" | tr -c 'a-z0-9' '-')
+      "$bin" identify --train "$train" --verify "$verify" --out "$out" --no-plots >/dev/null
+      conditions+=(--condition "$group|$label|$out/metrics.json")
+      if [ "$kind|$train" = "hover|${hover[0]}" ]; then as_flown=$out; fi
+    done <<EOF
+as flown (noise and turbulence)|${pair[0]}|${pair[1]}
+trained without sensor noise, verified as flown|$plant-$t-n0.csv|${pair[1]}
+no sensor noise (turbulence kept)|$plant-$t-n0.csv|$plant-$v-n0.csv
+still air, no sensor noise|$plant-$t-c.csv|$plant-$v-c.csv
+EOF
+  done
+  conditions+=(--condition "$title, hover pair, other verification flights|verification seed 2 (the pair above)|$as_flown/metrics.json")
+  for seed in 3 4 5; do
+    "$bin" simulate "${p[@]}" --kind verification --seed $seed --duration 300 -o $plant-verify-$seed.csv
+    out=conditions/$plant-seed-$seed
+    "$bin" identify --train "${hover[0]}" --verify $plant-verify-$seed.csv --out $out --no-plots >/dev/null
+    conditions+=(--condition "$title, hover pair, other verification flights|verification seed $seed|$out/metrics.json")
+  done
+done
+
 mkdir -p "$root/docs/figures"
 "$bin" identify --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
 "$bin" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
@@ -62,5 +104,5 @@ end=$(date +%s)
   --envelope "$root/docs/figures/envelope/metrics.json" \
   --second-plant $second --second-hover "$root/docs/figures/$second/metrics.json" \
   --second-envelope "$root/docs/figures/$second/envelope/metrics.json" \
-  --noisy-hover "$root/docs/figures/noisy/metrics.json" --elapsed $((end - start)) -o "$root/docs/results.md"
+  --noisy-hover "$root/docs/figures/noisy/metrics.json" "${conditions[@]}" --elapsed $((end - start)) -o "$root/docs/results.md"
 echo "wrote docs/results.md and docs/figures/ in $((end - start)) s"

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use rotorid::hover::RateStructure;
+use rotorid::hover::{RateStructure, VelocityStructure};
 
 use crate::experiments::{ModelParameters, VariantResult};
 use crate::report::{Metrics, ReportError};
@@ -73,6 +73,74 @@ pub fn noisy_markdown(noisy: &Metrics) -> String {
     s += &ratios(noisy, |v| v.free_run);
     s += "\nOne step (θ frozen), ratio to extended plain:\n\n";
     s += &ratios(noisy, |v| v.one_step);
+    s
+}
+
+/// One more run of a pair of flights for the section "What limits the flight default"
+/// (`rotorid report --condition`): the table it goes in, its row, its metrics and the
+/// parameters the flight default exported in that run.
+pub struct Condition {
+    /// The table's title (rows of one group share a table, in the order given).
+    pub group: String,
+    /// The row's label.
+    pub label: String,
+    /// The run's metrics.json.
+    pub metrics: Metrics,
+    /// The run's params-flight.json.
+    pub params: Vec<ModelParameters>,
+}
+
+/// The horizontal drag that the flight default's first rule (hover, `flight_sets`) learnt,
+/// along and across the heading, from its exported parameters (scaled θ): `[d_f/ΔT, d_r/ΔT]`
+/// (1/s; negative is drag).
+fn hover_rule_drag(params: &[ModelParameters], period_s: f64) -> Option<[f64; 2]> {
+    let scaling = VelocityStructure::Flight.helicopter_scaling::<f64, 7>();
+    let theta = params
+        .iter()
+        .find(|p| p.model == "velocity")?
+        .theta
+        .get(..7)?;
+    let physical =
+        |slot: usize| f64::from(theta[slot]) * scaling.target / scaling.terms[slot] / period_s;
+    Some([physical(2), physical(3)])
+}
+
+/// One table per group of [`Condition`]s: the flight default's free-run error ratio to
+/// [`BASELINE`] per state, its worst one-step ratio, and its hover rule's drag
+/// ([`hover_rule_drag`]).
+pub fn conditions_markdown(conditions: &[Condition]) -> String {
+    let mut groups: Vec<&str> = Vec::new();
+    for c in conditions {
+        if !groups.contains(&c.group.as_str()) {
+            groups.push(&c.group);
+        }
+    }
+    let mut s = String::new();
+    for group in groups {
+        s += &format!(
+            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | hover rule's drag d_f, d_r (1/s) |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+        );
+        for c in conditions.iter().filter(|c| c.group == group) {
+            let find = |n: &str| c.metrics.variants.iter().find(|v| v.name == n);
+            let (Some(f), Some(b)) = (find(FLIGHT), find(BASELINE)) else {
+                s += &format!("| {} | (flight or baseline variant missing) |\n", c.label);
+                continue;
+            };
+            let cells: Vec<String> = (0..6)
+                .map(|i| format!("{:.2}", f.free_run[i] / b.free_run[i]))
+                .collect();
+            let (worst, state) = worst_ratio(&f.one_step, &b.one_step);
+            let drag = hover_rule_drag(&c.params, 0.02)
+                .map_or_else(|| "–".to_string(), |[f, r]| format!("{f:.2}, {r:.2}"));
+            s += &format!(
+                "| {} | {} | {worst:.2} ({state}) | {drag} |\n",
+                c.label,
+                cells.join(" | ")
+            );
+        }
+        s += "\n";
+    }
     s
 }
 

@@ -18,6 +18,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use rotorid_cli::error_chain::Chain;
 use rotorid_cli::experiments::{self, EvaluateError, ModelParameters, TABLE4_VARIANTS};
+use rotorid_cli::flight_report::Condition;
 use rotorid_cli::import::{self, ImportError};
 use rotorid_cli::log::{self, LogError};
 use rotorid_cli::report::{self, FigureError, Metrics, ReportError, Table4};
@@ -138,36 +139,45 @@ enum Command {
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
     #[command(hide = true)]
-    Report {
-        /// metrics.json of the realistic (noisy, turbulent) run.
-        #[arg(long)]
-        realistic: PathBuf,
-        /// metrics.json of the clean (no noise, still air) run.
-        #[arg(long)]
-        clean: PathBuf,
-        /// metrics.json of the envelope run (its directory also holds params-flight.json).
-        #[arg(long)]
-        envelope: Option<PathBuf>,
-        /// The second plant whose runs `--second-hover` and `--second-envelope` are.
-        #[arg(long, value_enum, default_value_t = Plant::Flybarless600)]
-        second_plant: Plant,
-        /// metrics.json of the second plant's hover run.
-        #[arg(long, requires = "second_envelope")]
-        second_hover: Option<PathBuf>,
-        /// metrics.json of the second plant's envelope run (its directory also holds
-        /// params-flight.json).
-        #[arg(long, requires = "second_hover")]
-        second_envelope: Option<PathBuf>,
-        /// metrics.json of the hover run with noisier sensors (`simulate --noise-scale 3`).
-        #[arg(long)]
-        noisy_hover: Option<PathBuf>,
-        /// Seconds the results script took to simulate and identify (for the doc).
-        #[arg(long)]
-        elapsed: Option<f64>,
-        /// Output markdown file.
-        #[arg(short, long)]
-        output: PathBuf,
-    },
+    Report(ReportArgs),
+}
+
+/// The arguments of `rotorid report`.
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// metrics.json of the realistic (noisy, turbulent) run.
+    #[arg(long)]
+    realistic: PathBuf,
+    /// metrics.json of the clean (no noise, still air) run.
+    #[arg(long)]
+    clean: PathBuf,
+    /// metrics.json of the envelope run (its directory also holds params-flight.json).
+    #[arg(long)]
+    envelope: Option<PathBuf>,
+    /// The second plant whose runs `--second-hover` and `--second-envelope` are.
+    #[arg(long, value_enum, default_value_t = Plant::Flybarless600)]
+    second_plant: Plant,
+    /// metrics.json of the second plant's hover run.
+    #[arg(long, requires = "second_envelope")]
+    second_hover: Option<PathBuf>,
+    /// metrics.json of the second plant's envelope run (its directory also holds
+    /// params-flight.json).
+    #[arg(long, requires = "second_hover")]
+    second_envelope: Option<PathBuf>,
+    /// metrics.json of the hover run with noisier sensors (`simulate --noise-scale 3`).
+    #[arg(long)]
+    noisy_hover: Option<PathBuf>,
+    /// A run for the section "What limits the flight default", as `GROUP|LABEL|METRICS`:
+    /// the table it goes in, its row's label, and its metrics.json (whose directory also
+    /// holds params-flight.json). Repeatable; tables and rows keep the order given.
+    #[arg(long = "condition", value_name = "GROUP|LABEL|METRICS", value_parser = parse_condition)]
+    conditions: Vec<(String, String, PathBuf)>,
+    /// Seconds the results script took to simulate and identify (for the doc).
+    #[arg(long)]
+    elapsed: Option<f64>,
+    /// Output markdown file.
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 /// What went wrong in a command; `main` prints it with its causes ([`Chain`]).
@@ -238,6 +248,18 @@ enum CliError {
     Report(#[from] ReportError),
 }
 
+/// `GROUP|LABEL|METRICS` of `report --condition`.
+fn parse_condition(s: &str) -> Result<(String, String, PathBuf), String> {
+    match s.split('|').collect::<Vec<_>>()[..] {
+        [group, label, metrics]
+            if !group.is_empty() && !label.is_empty() && !metrics.is_empty() =>
+        {
+            Ok((group.to_string(), label.to_string(), PathBuf::from(metrics)))
+        }
+        _ => Err(format!("expected GROUP|LABEL|METRICS, got {s:?}")),
+    }
+}
+
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
     let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
         path: path.to_path_buf(),
@@ -293,30 +315,7 @@ fn main() -> ExitCode {
             warm_start.as_deref(),
         ),
         Command::Convert { input, output } => run_convert(&input, &output),
-        Command::Report {
-            realistic,
-            clean,
-            envelope,
-            second_plant,
-            second_hover,
-            second_envelope,
-            noisy_hover,
-            elapsed,
-            output,
-        } => {
-            let second = second_hover
-                .zip(second_envelope)
-                .map(|(h, e)| (second_plant.into(), h, e));
-            run_report(
-                &realistic,
-                &clean,
-                envelope.as_deref(),
-                second,
-                noisy_hover.as_deref(),
-                elapsed,
-                &output,
-            )
-        }
+        Command::Report(args) => run_report(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -560,42 +559,43 @@ fn run_identify(
     Ok(())
 }
 
-fn run_report(
-    realistic: &Path,
-    clean: &Path,
-    envelope: Option<&Path>,
-    second: Option<(Airframe, PathBuf, PathBuf)>,
-    noisy: Option<&Path>,
-    elapsed: Option<f64>,
-    output: &Path,
-) -> Result<(), CliError> {
+fn run_report(args: &ReportArgs) -> Result<(), CliError> {
     let load = read_json::<Metrics>;
-    let envelope = match envelope {
-        Some(p) => Some((load(p)?, p.parent().unwrap_or(Path::new(".")).to_path_buf())),
+    let dir_of = |p: &Path| p.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let conditions = args
+        .conditions
+        .iter()
+        .map(|(group, label, metrics)| {
+            Ok(Condition {
+                group: group.clone(),
+                label: label.clone(),
+                metrics: load(metrics)?,
+                params: read_json(&dir_of(metrics).join("params-flight.json"))?,
+            })
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let envelope = match &args.envelope {
+        Some(p) => Some((load(p)?, dir_of(p))),
         None => None,
     };
-    let second = match second {
-        Some((airframe, hover, envelope)) => {
-            let dir = envelope.parent().unwrap_or(Path::new(".")).to_path_buf();
-            Some((airframe, load(&hover)?, load(&envelope)?, dir))
-        }
-        None => None,
+    let second = match (&args.second_hover, &args.second_envelope) {
+        (Some(hover), Some(envelope)) => Some((load(hover)?, load(envelope)?, dir_of(envelope))),
+        _ => None,
     };
-    let second = second
-        .as_ref()
-        .map(|(airframe, hover, envelope, dir)| SecondPlant {
-            airframe: *airframe,
-            hover,
-            envelope,
-            envelope_dir: dir,
-        });
+    let second = second.as_ref().map(|(hover, envelope, dir)| SecondPlant {
+        airframe: args.second_plant.into(),
+        hover,
+        envelope,
+        envelope_dir: dir,
+    });
     let md = rotorid_cli::results::results_markdown(
-        &load(realistic)?,
-        &load(clean)?,
+        &load(&args.realistic)?,
+        &load(&args.clean)?,
         envelope.as_ref().map(|(m, d)| (m, d.as_path())),
         second.as_ref(),
-        noisy.map(load).transpose()?.as_ref(),
-        elapsed,
+        args.noisy_hover.as_deref().map(load).transpose()?.as_ref(),
+        &conditions,
+        args.elapsed,
     )?;
-    write_text(output, md)
+    write_text(&args.output, md)
 }

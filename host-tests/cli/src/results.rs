@@ -5,7 +5,9 @@ use std::path::Path;
 
 use rotorid_sim::plant::{trim_hover, Airframe};
 
-use crate::flight_report::{flight_by_state, flight_markdown, noisy_markdown};
+use crate::flight_report::{
+    conditions_markdown, flight_by_state, flight_markdown, noisy_markdown, Condition,
+};
 use crate::report::*;
 
 /// The runs of the second plant: its hover pair's metrics and its envelope pair's (with the
@@ -137,6 +139,7 @@ pub fn results_markdown(
     envelope: Option<(&Metrics, &Path)>,
     second: Option<&SecondPlant<'_>>,
     noisy: Option<&Metrics>,
+    conditions: &[Condition],
     elapsed_s: Option<f64>,
 ) -> Result<String, ReportError> {
     let flight = match envelope {
@@ -173,6 +176,14 @@ pub fn results_markdown(
                 || "(not run: `rotorid report` was given no `--noisy-hover` metrics)\n".to_string(),
                 noisy_markdown,
             ),
+        ),
+        (
+            "{{CONDITIONS}}",
+            if conditions.is_empty() {
+                "(not run: `rotorid report` was given no `--condition` runs)\n".to_string()
+            } else {
+                conditions_markdown(conditions)
+            },
         ),
         ("{{TABLE4}}", table4_markdown(t)),
         ("{{TABLE4_CLEAN}}", table4_markdown(tc)),

@@ -194,6 +194,46 @@ fn end_to_end_on_a_short_flight() {
         "{}",
         text(&o.stderr)
     );
+
+    // `--condition GROUP|LABEL|METRICS` adds a row of the flight default's ratios to its
+    // group's table; a value without three parts is refused before anything is read.
+    let o = run(bin()
+        .args(["report", "--realistic"])
+        .arg(out.join("metrics.json"))
+        .arg("--clean")
+        .arg(out.join("metrics.json"))
+        .arg("--condition")
+        .arg(format!(
+            "Same pair|once more|{}",
+            out.join("metrics.json").display()
+        ))
+        .arg("-o")
+        .arg(dir.join("results.md")));
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let md = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
+    let row = md
+        .lines()
+        .find(|l| l.starts_with("| once more | "))
+        .unwrap_or_else(|| panic!("no condition row in:\n{md}"));
+    assert!(md.contains("#### Same pair\n"), "{md}");
+    // Nine cells (label, six states, one step, drag), the drag read from params-flight.json.
+    assert_eq!(row.matches(" | ").count(), 8, "{row}");
+    assert!(!row.contains("–"), "{row}");
+    let o = run(bin()
+        .args(["report", "--realistic"])
+        .arg(out.join("metrics.json"))
+        .arg("--clean")
+        .arg(out.join("metrics.json"))
+        .arg("--condition")
+        .arg("two|parts")
+        .arg("-o")
+        .arg(dir.join("results.md")));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("expected GROUP|LABEL|METRICS"),
+        "{}",
+        text(&o.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
