@@ -231,9 +231,9 @@ fn export_import_warm_start_continues_bit_for_bit() {
 fn learn_afresh<M: StateModel<f32>>(model: &mut M, k: u64) -> HoverState<f32> {
     let (from, to) = (sample::<f32>(k - 1), sample::<f32>(k));
     let before = if k >= 2 {
-        sample::<f32>(k - 2).rates
+        sample::<f32>(k - 2).state()
     } else {
-        from.rates
+        from.state()
     };
     let prepared = model
         .prepare_in(&from, &BodyFrame::of(&from.attitude), &before, &to)
@@ -336,19 +336,48 @@ impl<M: StateModel<f32>> Predicts for M {
 }
 
 #[test]
-fn predict_after_uses_the_sample_before_for_the_second_order_term() {
+fn predict_after_reads_the_sample_before_for_the_second_order_term_and_the_drag() {
     let mut id = flight();
     for k in 0..500 {
         id.step(&sample(k)).unwrap();
     }
     let (s0, s1) = (sample::<f32>(500), sample::<f32>(501));
-    // Without a sample before, the second-order term is zero: as if the rates were steady.
+    // Without a sample before, the sample itself stands in: as if the state were steady.
     let steady = id.predict_after(Some(&s1.state()), &s1).unwrap().to_array();
     assert_eq!(steady, id.predict(&s1).unwrap().to_array());
-    let moving = id.predict_after(Some(&s0.state()), &s1).unwrap().to_array();
+    // The rates of the sample before move the rate predictions only (the second-order
+    // term)...
+    let rates_before = HoverState {
+        velocity: s1.velocity,
+        rates: s0.rates,
+    };
+    let moving = id
+        .predict_after(Some(&rates_before), &s1)
+        .unwrap()
+        .to_array();
     assert_ne!(steady[3..], moving[3..]);
-    // The velocity model is first order.
     assert_eq!(steady[..3], moving[..3]);
+    // ...and its velocity the velocity prediction only (the horizontal drag on v(k−1)).
+    let velocity_before = HoverState {
+        velocity: s0.velocity,
+        rates: s1.rates,
+    };
+    let drifting = id
+        .predict_after(Some(&velocity_before), &s1)
+        .unwrap()
+        .to_array();
+    assert_ne!(steady[..3], drifting[..3]);
+    assert_eq!(steady[3..], drifting[3..]);
+    // Of that velocity, only the horizontal components: the heave damping is on v_y(k) (the
+    // identifier's chain does not keep v_y(k−1)).
+    let mut climbing = s1.state();
+    climbing.velocity[1] = s0.velocity[1] + 1.0;
+    let same = id.predict_after(Some(&climbing), &s1).unwrap().to_array();
+    assert_eq!(steady.map(f32::to_bits), same.map(f32::to_bits));
+    // A state before that no sample could have is refused.
+    let mut bad = s0.state();
+    bad.velocity[2] = f32::INFINITY;
+    assert!(id.predict_after(Some(&bad), &s1).is_err());
 }
 
 #[test]

@@ -682,7 +682,8 @@ int32_t rotorid_step(rotorid_ident_t *h,
 /**
  * One-step prediction of the state after `sample` with the current parameters; changes
  * nothing. `before`: the state of the sample before `sample` (measured, or the model's own
- * estimate in a simulation), read only by second-order terms; NULL at the start of a chain.
+ * estimate in a simulation), read only by the flight structures' second-order rate terms and
+ * horizontal drag; NULL at the start of a chain.
  *
  * # Safety
  * As `rotorid_step`; `before` is NULL or valid.

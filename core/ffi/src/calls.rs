@@ -35,7 +35,8 @@ pub unsafe extern "C" fn rotorid_step(
 
 /// One-step prediction of the state after `sample` with the current parameters; changes
 /// nothing. `before`: the state of the sample before `sample` (measured, or the model's own
-/// estimate in a simulation), read only by second-order terms; NULL at the start of a chain.
+/// estimate in a simulation), read only by the flight structures' second-order rate terms and
+/// horizontal drag; NULL at the start of a chain.
 ///
 /// # Safety
 /// As `rotorid_step`; `before` is NULL or valid.

@@ -23,8 +23,10 @@ pub struct rotorid_ident_t {
 /// Written by `rotorid_init*` at the start of the storage: "RDI1".
 const TAG: u32 = u32::from_le_bytes(*b"RDI1");
 
-/// The start of every prepared storage.
-#[repr(C)]
+/// The start of every prepared storage. Aligned to 8 so that the identifier starts at the
+/// same offset (16) on every target, whatever its own alignment and the size of a function
+/// pointer: the storage sizes of `kinds` are then the same on the host and the MCU.
+#[repr(C, align(8))]
 pub(crate) struct Header {
     tag: u32,
     kind: u32,

@@ -4,8 +4,9 @@
 //!
 //! Beside the identifier's own learning chain, each identifier answering `Sample` has a
 //! [`SampleChain`]: the state (`v^s`, `ω`) its last prediction started from and that
-//! prediction. `Predict` reads the first as the state before its sample (second-order rate
-//! terms, `RateStructure::Flight`, need it; the paper's structures ignore it), and `FreeRun`
+//! prediction. `Predict` reads the first as the state before its sample (the second-order rate
+//! terms of `RateStructure::Flight` and the horizontal drag of `VelocityStructure::Flight` need
+//! it; the paper's structures ignore it), and `FreeRun`
 //! continues from the second: the frozen model fed its own `v^s` and `ω` with the measured
 //! attitude and controls, as a flight computer would run it. This is
 //! `rotorid_cli::experiments::evaluation`'s `predict_after(before, sample)`, onboard.

@@ -3,7 +3,7 @@
 use crate::error::Error;
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, StateModel};
-use crate::hover::sample::{HoverSample, HoverState, SampleLimits};
+use crate::hover::sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
 use crate::rls::RlsView;
 use crate::scalar::Real;
 
@@ -105,23 +105,90 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
     pub(super) chain: Chain<T>,
 }
 
-/// The end of a sample chain: the sample the next step learns from, its body frame, and the
-/// body rates `[q r p]` of the sample before it (for second-order rate terms,
-/// [`RateStructure::Flight`](super::RateStructure::Flight)). Kept without `Option`s, the count of valid links living in
-/// [`Timing`]'s padding, so that the paper fuzzy identifier stays within 11 KiB.
+/// The end of a sample chain: the sample the next step learns from, its body frame, and what
+/// the models read of the sample before it ([`Before`]).
+///
+/// Laid out for the 11 KiB target of the paper fuzzy identifier (f32): no `Option`s (the
+/// count of valid links lives in [`Timing`]'s padding), and the sample's fields kept apart,
+/// its time stamp as two 32-bit words, so that the chain is 4-byte aligned and packs with
+/// the models (a `u64` would pad it to 8).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(super) struct Chain<T> {
-    sample: HoverSample<T>,
+    /// The sample's time stamp (µs): high and low 32 bits.
+    time_us: [u32; 2],
+    attitude: Attitude<T>,
+    velocity: [T; 3],
+    rates: [T; 3],
+    controls: Controls<T>,
     frame: BodyFrame<T>,
-    before: [T; 3],
+    before: Before<T>,
 }
 
 impl<T: Real> Chain<T> {
     pub(super) fn empty() -> Self {
+        Self::new(
+            &HoverSample::default(),
+            BodyFrame::identity(),
+            &HoverState::default(),
+        )
+    }
+
+    /// The chain ending at `sample` (whose body frame is `frame`), with `before` the state
+    /// of the sample before it.
+    fn new(sample: &HoverSample<T>, frame: BodyFrame<T>, before: &HoverState<T>) -> Self {
+        let t = sample.time_us;
         Self {
-            sample: HoverSample::default(),
-            frame: BodyFrame::identity(),
-            before: [T::zero(); 3],
+            time_us: [(t >> 32) as u32, t as u32],
+            attitude: sample.attitude,
+            velocity: sample.velocity,
+            rates: sample.rates,
+            controls: sample.controls,
+            frame,
+            before: Before::of(before),
+        }
+    }
+
+    /// The sample the chain ends at.
+    fn sample(&self) -> HoverSample<T> {
+        let [high, low] = self.time_us;
+        HoverSample {
+            time_us: (u64::from(high) << 32) | u64::from(low),
+            attitude: self.attitude,
+            velocity: self.velocity,
+            rates: self.rates,
+            controls: self.controls,
+        }
+    }
+}
+
+/// What the models read of the sample before the chain's last: its rates (the second-order
+/// term of [`RateStructure::Flight`](super::RateStructure::Flight)) and its horizontal velocity
+/// (the drag of [`VelocityStructure::Flight`](super::VelocityStructure::Flight)). Its vertical
+/// velocity is not kept: no model reads it (the heave damping is on `v_y(k)`), and without
+/// those 4 bytes the paper fuzzy identifier stays within 11 KiB.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct Before<T> {
+    rates: [T; 3],
+    v_x: T,
+    v_z: T,
+}
+
+impl<T: Real> Before<T> {
+    fn of(state: &HoverState<T>) -> Self {
+        let [v_x, _, v_z] = state.velocity;
+        Self {
+            rates: state.rates,
+            v_x,
+            v_z,
+        }
+    }
+
+    /// The state the models are given for the sample before `from`: the kept rates and
+    /// horizontal velocity, and `from`'s own `v_y` in the slot no model reads.
+    fn state_before(&self, from: &HoverSample<T>) -> HoverState<T> {
+        HoverState {
+            velocity: [self.v_x, from.velocity[1], self.v_z],
+            rates: self.rates,
         }
     }
 }
@@ -232,8 +299,8 @@ where
     }
 
     /// The sample the next step will learn from, if any.
-    pub fn previous_sample(&self) -> Option<&HoverSample<T>> {
-        (self.timing.links > 0).then_some(&self.chain.sample)
+    pub fn previous_sample(&self) -> Option<HoverSample<T>> {
+        (self.timing.links > 0).then(|| self.chain.sample())
     }
 
     /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
@@ -250,38 +317,31 @@ where
     pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
-        let mut before = sample.rates;
+        let mut before = sample.state();
         if self.timing.links > 0 {
-            let Chain {
-                sample: prev,
-                frame,
-                before: earlier,
-            } = &self.chain;
-            self.check_interval(prev, sample)?;
+            let prev = self.chain.sample();
+            let frame = &self.chain.frame;
+            self.check_interval(&prev, sample)?;
             let b = if self.timing.links > 1 {
-                earlier
+                self.chain.before.state_before(&prev)
             } else {
-                &prev.rates
+                prev.state()
             };
             // Check all four models before changing any.
-            let v = self.velocity.prepare_in(prev, frame, b, sample)?;
-            let q = self.pitch.prepare_in(prev, frame, b, sample)?;
-            let r = self.yaw.prepare_in(prev, frame, b, sample)?;
-            let p = self.roll.prepare_in(prev, frame, b, sample)?;
+            let v = self.velocity.prepare_in(&prev, frame, &b, sample)?;
+            let q = self.pitch.prepare_in(&prev, frame, &b, sample)?;
+            let r = self.yaw.prepare_in(&prev, frame, &b, sample)?;
+            let p = self.roll.prepare_in(&prev, frame, &b, sample)?;
             let mut inn = HoverState::default();
             self.velocity.apply(&v, &mut inn);
             self.pitch.apply(&q, &mut inn);
             self.yaw.apply(&r, &mut inn);
             self.roll.apply(&p, &mut inn);
             innovation = Some(inn);
-            before = prev.rates;
+            before = prev.state();
         }
         let frame = BodyFrame::of(&sample.attitude);
-        self.chain = Chain {
-            sample: *sample,
-            frame,
-            before,
-        };
+        self.chain = Chain::new(sample, frame, &before);
         self.timing.links = if self.timing.links > 0 { 2 } else { 1 };
         // The sample passed SampleLimits, which bounds every regressor; only parameters beyond
         // any learnt ones could make this fail (see the docs above).
@@ -302,8 +362,10 @@ where
 
     /// One-step prediction of the state after `sample`, given the state of the sample before
     /// it (`before`: measured, or the model's own estimate in a simulation; `None` at the
-    /// start of a chain). Only second-order terms ([`RateStructure::Flight`](super::RateStructure::Flight)) read it.
-    /// Changes nothing.
+    /// start of a chain; then `sample`'s own state stands in). Only the terms that read the
+    /// sample before read it: the second-order term of
+    /// [`RateStructure::Flight`](super::RateStructure::Flight) and the drag of
+    /// [`VelocityStructure::Flight`](super::VelocityStructure::Flight). Changes nothing.
     pub fn predict_after(
         &self,
         before: Option<&HoverState<T>>,
@@ -312,10 +374,10 @@ where
         SampleLimits::check(sample)?;
         let before = match before {
             Some(b) => {
-                SampleLimits::check_rates(&b.rates)?;
-                b.rates
+                SampleLimits::check_state(b)?;
+                *b
             }
-            None => sample.rates,
+            None => sample.state(),
         };
         self.predict_in(sample, &BodyFrame::of(&sample.attitude), &before)
     }
@@ -324,7 +386,7 @@ where
         &self,
         sample: &HoverSample<T>,
         frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
     ) -> Result<HoverState<T>, Error> {
         let mut next = HoverState::default();
         self.velocity.predict_in(sample, frame, before, &mut next)?;
@@ -340,7 +402,7 @@ where
         &mut self,
         sample: &HoverSample<T>,
         frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
     ) -> Result<HoverState<T>, Error> {
         let mut next = HoverState::default();
         self.velocity
@@ -356,12 +418,8 @@ where
     pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
         let frame = BodyFrame::of(&sample.attitude);
-        let prediction = self.predict_keep(sample, &frame, &sample.rates)?;
-        self.chain = Chain {
-            sample: *sample,
-            frame,
-            before: sample.rates,
-        };
+        let prediction = self.predict_keep(sample, &frame, &sample.state())?;
+        self.chain = Chain::new(sample, frame, &sample.state());
         self.timing.links = 1;
         Ok(prediction)
     }

@@ -185,16 +185,22 @@ impl SampleLimits {
         Ok(())
     }
 
+    /// Checks a state `[v^s, ω]` (a sample's, or a model's own estimate) against
+    /// [`VELOCITY`](Self::VELOCITY) and [`RATE`](Self::RATE).
+    pub fn check_state<T: Real>(state: &HoverState<T>) -> Result<(), Error> {
+        for (i, &v) in state.velocity.iter().enumerate() {
+            check(v, Self::VELOCITY, SampleField::Velocity(i as u8).into())?;
+        }
+        Self::check_rates(&state.rates)
+    }
+
     /// Checks every field of a sample: `NonFinite` for NaN/±∞, `OutOfRange` beyond the limits.
     pub fn check<T: Real>(s: &HoverSample<T>) -> Result<(), Error> {
         let a = &s.attitude;
         check(a.roll, Self::ROLL, SampleField::Roll.into())?;
         check(a.pitch, Self::PITCH, SampleField::Pitch.into())?;
         check(a.yaw, Self::YAW, SampleField::Yaw.into())?;
-        for (i, &v) in s.velocity.iter().enumerate() {
-            check(v, Self::VELOCITY, SampleField::Velocity(i as u8).into())?;
-        }
-        Self::check_rates(&s.rates)?;
+        Self::check_state(&s.state())?;
         for (i, u) in s.controls.to_array().into_iter().enumerate() {
             check(u, Self::CONTROL, SampleField::Control(i as u8).into())?;
         }

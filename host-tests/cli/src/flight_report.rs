@@ -88,13 +88,21 @@ pub struct Condition {
     pub metrics: Metrics,
     /// The run's params-flight.json.
     pub params: Vec<ModelParameters>,
+    /// The run's params-extended-plain.json.
+    pub baseline_params: Vec<ModelParameters>,
 }
 
-/// The horizontal drag that the flight default's first rule (hover, `flight_sets`) learnt,
-/// along and across the heading, from its exported parameters (scaled θ): `[d_f/ΔT, d_r/ΔT]`
-/// (1/s; negative is drag).
-fn hover_rule_drag(params: &[ModelParameters], period_s: f64) -> Option<[f64; 2]> {
-    let scaling = VelocityStructure::Flight.helicopter_scaling::<f64, 7>();
+/// The drag that a velocity model's first rule learnt, from its exported parameters (scaled
+/// θ, `structure`'s helicopter scaling), in 1/s (negative is drag): `[d_f/ΔT, d_r/ΔT,
+/// d_u/ΔT]` along and across the heading and up for [`VelocityStructure::Flight`] (the flight
+/// default's hover rule), the horizontal `[d_x/ΔT, d_z/ΔT]` (east, south) for
+/// [`VelocityStructure::Extended`].
+fn drag(
+    params: &[ModelParameters],
+    structure: VelocityStructure,
+    period_s: f64,
+) -> Option<Vec<f64>> {
+    let scaling = structure.helicopter_scaling::<f64, 7>();
     let theta = params
         .iter()
         .find(|p| p.model == "velocity")?
@@ -102,12 +110,15 @@ fn hover_rule_drag(params: &[ModelParameters], period_s: f64) -> Option<[f64; 2]
         .get(..7)?;
     let physical =
         |slot: usize| f64::from(theta[slot]) * scaling.target / scaling.terms[slot] / period_s;
-    Some([physical(2), physical(3)])
+    let slots: &[usize] = match structure {
+        VelocityStructure::Extended => &[2, 4],
+        _ => &[2, 3, 4],
+    };
+    Some(slots.iter().map(|&slot| physical(slot)).collect())
 }
 
 /// One table per group of [`Condition`]s: the flight default's free-run error ratio to
-/// [`BASELINE`] per state, its worst one-step ratio, and its hover rule's drag
-/// ([`hover_rule_drag`]).
+/// [`BASELINE`] per state, its worst one-step ratio, and the drag both learnt ([`drag`]).
 pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut groups: Vec<&str> = Vec::new();
     for c in conditions {
@@ -118,8 +129,8 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut s = String::new();
     for group in groups {
         s += &format!(
-            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | hover rule's drag d_f, d_r (1/s) |\n\
-             |---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
         );
         for c in conditions.iter().filter(|c| c.group == group) {
             let find = |n: &str| c.metrics.variants.iter().find(|v| v.name == n);
@@ -131,10 +142,21 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
                 .map(|i| format!("{:.2}", f.free_run[i] / b.free_run[i]))
                 .collect();
             let (worst, state) = worst_ratio(&f.one_step, &b.one_step);
-            let drag = hover_rule_drag(&c.params, 0.02)
-                .map_or_else(|| "–".to_string(), |[f, r]| format!("{f:.2}, {r:.2}"));
+            let cell = |params: &[ModelParameters], structure| {
+                drag(params, structure, 0.02).map_or_else(
+                    || "–".to_string(),
+                    |d| {
+                        d.iter()
+                            .map(|x| format!("{x:.2}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    },
+                )
+            };
+            let flight = cell(&c.params, VelocityStructure::Flight);
+            let base = cell(&c.baseline_params, VelocityStructure::Extended);
             s += &format!(
-                "| {} | {} | {worst:.2} ({state}) | {drag} |\n",
+                "| {} | {} | {worst:.2} ({state}) | {flight} | {base} |\n",
                 c.label,
                 cells.join(" | ")
             );

@@ -169,7 +169,8 @@ struct ReportArgs {
     noisy_hover: Option<PathBuf>,
     /// A run for the section "What limits the flight default", as `GROUP|LABEL|METRICS`:
     /// the table it goes in, its row's label, and its metrics.json (whose directory also
-    /// holds params-flight.json). Repeatable; tables and rows keep the order given.
+    /// holds params-flight.json and params-extended-plain.json). Repeatable; tables and rows
+    /// keep the order given.
     #[arg(long = "condition", value_name = "GROUP|LABEL|METRICS", value_parser = parse_condition)]
     conditions: Vec<(String, String, PathBuf)>,
     /// Seconds the results script took to simulate and identify (for the doc).
@@ -571,6 +572,7 @@ fn run_report(args: &ReportArgs) -> Result<(), CliError> {
                 label: label.clone(),
                 metrics: load(metrics)?,
                 params: read_json(&dir_of(metrics).join("params-flight.json"))?,
+                baseline_params: read_json(&dir_of(metrics).join("params-extended-plain.json"))?,
             })
         })
         .collect::<Result<Vec<_>, CliError>>()?;

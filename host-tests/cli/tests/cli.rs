@@ -216,8 +216,9 @@ fn end_to_end_on_a_short_flight() {
         .find(|l| l.starts_with("| once more | "))
         .unwrap_or_else(|| panic!("no condition row in:\n{md}"));
     assert!(md.contains("#### Same pair\n"), "{md}");
-    // Nine cells (label, six states, one step, drag), the drag read from params-flight.json.
-    assert_eq!(row.matches(" | ").count(), 8, "{row}");
+    // Ten cells (label, six states, one step, two drags), the drags read from
+    // params-flight.json and params-extended-plain.json.
+    assert_eq!(row.matches(" | ").count(), 9, "{row}");
     assert!(!row.contains("–"), "{row}");
     let o = run(bin()
         .args(["report", "--realistic"])

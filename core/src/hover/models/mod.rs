@@ -57,28 +57,28 @@ pub trait StateModel<T: Real> {
     fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>));
 
     /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
-    /// keeps it from the previous step) and the body rates `[q r p]` of the sample before
-    /// `from` (`before`; `from`'s own rates when there is none), for structures with a
-    /// second-order term ([`RateStructure::Flight`]). [`prepare`](Self::prepare) is this with
-    /// `before = from.rates`.
+    /// keeps it from the previous step) and the state `[v^s, ω]` of the sample before `from`
+    /// (`before`; `from`'s own state when there is none), for the structures that read it
+    /// ([`RateStructure::Flight`]'s second-order term, [`VelocityStructure::Flight`]'s drag).
+    /// [`prepare`](Self::prepare) is this with `before = from.state()`.
     fn prepare_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         to: &HoverSample<T>,
     ) -> Result<Self::Prepared, Error> {
         let _ = (from_frame, before);
         self.prepare(from, to)
     }
 
-    /// [`predict`](Self::predict) with `from`'s body frame already computed and the rates of
+    /// [`predict`](Self::predict) with `from`'s body frame already computed and the state of
     /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
     fn predict_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         let _ = (from_frame, before);
@@ -93,7 +93,7 @@ pub trait StateModel<T: Real> {
         &mut self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         self.predict_in(from, from_frame, before, next)

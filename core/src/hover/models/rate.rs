@@ -275,19 +275,19 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     type State = E::State;
 
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
-        self.prepare_in(from, &self.frame_for(from), &from.rates, to)
+        self.prepare_in(from, &self.frame_for(from), &from.state(), to)
     }
 
     fn prepare_in(
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         to: &HoverSample<T>,
     ) -> Result<Self::Prepared, Error> {
         self.ts.prepare(
             &self.premise.of(from, from_frame),
-            &[self.terms_in(from, from_frame, before)],
+            &[self.terms_in(from, from_frame, &before.rates)],
             &[self.rate(to) - self.rate(from)],
         )
     }
@@ -296,12 +296,12 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         &self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         let [increment] = self.ts.predict_many(
             &self.premise.of(from, from_frame),
-            &[self.terms_in(from, from_frame, before)],
+            &[self.terms_in(from, from_frame, &before.rates)],
         )?;
         self.advance(from, increment, next);
         Ok(())
@@ -311,11 +311,11 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         &mut self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
-        before: &[T; 3],
+        before: &HoverState<T>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         let premise = self.premise.of(from, from_frame);
-        let terms = [self.terms_in(from, from_frame, before)];
+        let terms = [self.terms_in(from, from_frame, &before.rates)];
         let [increment] = self.ts.predict_keep(&premise, &terms)?;
         self.advance(from, increment, next);
         Ok(())
@@ -330,7 +330,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     }
 
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
-        self.predict_in(from, &self.frame_for(from), &from.rates, next)
+        self.predict_in(from, &self.frame_for(from), &from.state(), next)
     }
 
     fn reset(&mut self) {
