@@ -369,3 +369,26 @@ fn step_prediction_equals_fresh_predict() {
     assert!(id.previous_sample().is_none());
     assert!(id.step(&sample(50)).unwrap().innovation.is_none());
 }
+
+/// The chain keeps the last sample's time stamp as two 32-bit words: every bit of a `u64`
+/// comes back, across the 2³² µs boundary (71.6 minutes of flight) and at the top of the range,
+/// and the interval check sees the real interval there.
+#[test]
+fn the_kept_sample_is_the_sample_whatever_its_time_stamp() {
+    let mut id = PaperPlainIdentifier::<f32>::paper_plain(HoverConfig::default()).unwrap();
+    for start in [0u64, (1 << 32) - 30_000, u64::MAX - 1_000_000] {
+        id.end_chain();
+        for k in 0..3 {
+            let mut s = sample(k);
+            s.time_us = start + k * 20_000;
+            id.step(&s).unwrap();
+            assert_eq!(id.previous_sample(), Some(s), "start {start}, sample {k}");
+        }
+        // 30 ms after the last one: refused (outside 20 ± 10 ms), and nothing changed.
+        let mut late = sample(3);
+        late.time_us = start + 2 * 20_000 + 30_001;
+        let kept = id.clone();
+        assert!(id.step(&late).is_err());
+        assert_eq!(id, kept);
+    }
+}
