@@ -101,7 +101,7 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
     pub(super) timing: Timing,
-    /// The end of the current sample chain (how much of it is valid: `timing.links`).
+    /// The end of the current sample chain (valid when `timing.chained`).
     pub(super) chain: Chain<T>,
 }
 
@@ -109,7 +109,7 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
 /// the models read of the sample before it ([`Before`]).
 ///
 /// Laid out for the 11 KiB target of the paper fuzzy identifier (f32): no `Option`s (the
-/// count of valid links lives in [`Timing`]'s padding), and the sample's fields kept apart,
+/// flag of a valid chain lives in [`Timing`]'s padding), and the sample's fields kept apart,
 /// its time stamp as two 32-bit words, so that the chain is 4-byte aligned and packs with
 /// the models (a `u64` would pad it to 8).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -200,9 +200,9 @@ pub(super) struct Timing {
     sample_period_us: u32,
     period_tolerance_us: u32,
     scaling: RegressorScaling,
-    /// Samples of the current chain the identifier knows: 0 (none), 1 (`chain.sample`) or 2
-    /// (also `chain.before`).
-    links: u8,
+    /// Whether `chain` holds a sample. Its `before` is then valid too: a chain's first sample
+    /// stands in for the sample before it.
+    chained: bool,
 }
 
 impl Timing {
@@ -211,7 +211,7 @@ impl Timing {
             sample_period_us: config.sample_period_us,
             period_tolerance_us: config.period_tolerance_us,
             scaling: config.scaling,
-            links: 0,
+            chained: false,
         }
     }
 }
@@ -300,7 +300,7 @@ where
 
     /// The sample the next step will learn from, if any.
     pub fn previous_sample(&self) -> Option<HoverSample<T>> {
-        (self.timing.links > 0).then(|| self.chain.sample())
+        self.timing.chained.then(|| self.chain.sample())
     }
 
     /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
@@ -318,15 +318,11 @@ where
         SampleLimits::check(sample)?;
         let mut innovation = None;
         let mut before = sample.state();
-        if self.timing.links > 0 {
+        if self.timing.chained {
             let prev = self.chain.sample();
             let frame = &self.chain.frame;
             self.check_interval(&prev, sample)?;
-            let b = if self.timing.links > 1 {
-                self.chain.before.state_before(&prev)
-            } else {
-                prev.state()
-            };
+            let b = self.chain.before.state_before(&prev);
             // Check all four models before changing any.
             let v = self.velocity.prepare_in(&prev, frame, &b, sample)?;
             let q = self.pitch.prepare_in(&prev, frame, &b, sample)?;
@@ -342,7 +338,7 @@ where
         }
         let frame = BodyFrame::of(&sample.attitude);
         self.chain = Chain::new(sample, frame, &before);
-        self.timing.links = if self.timing.links > 0 { 2 } else { 1 };
+        self.timing.chained = true;
         // The sample passed SampleLimits, which bounds every regressor; only parameters beyond
         // any learnt ones could make this fail (see the docs above).
         let prediction = self.predict_keep(sample, &frame, &before)?;
@@ -420,7 +416,7 @@ where
         let frame = BodyFrame::of(&sample.attitude);
         let prediction = self.predict_keep(sample, &frame, &sample.state())?;
         self.chain = Chain::new(sample, frame, &sample.state());
-        self.timing.links = 1;
+        self.timing.chained = true;
         Ok(prediction)
     }
 
@@ -471,7 +467,7 @@ where
     /// Forgets the chain (cleared too, so that an identifier compares equal to a fresh one).
     fn end_chain_in_place(&mut self) {
         self.chain = Chain::empty();
-        self.timing.links = 0;
+        self.timing.chained = false;
     }
 
     /// Mutable access to the translational model, for importing one model at a time (a

@@ -174,19 +174,23 @@ fn end_to_end_on_a_short_flight() {
         text(&o.stderr)
     );
 
+    // `report` of this run's metrics as both the realistic and the clean run, with `extra`.
+    let report = |extra: &[std::ffi::OsString]| {
+        run(bin()
+            .args(["report", "--realistic"])
+            .arg(out.join("metrics.json"))
+            .arg("--clean")
+            .arg(out.join("metrics.json"))
+            .args(extra)
+            .arg("-o")
+            .arg(dir.join("results.md")))
+    };
+
     // `report` names the file it could not read, then the system's reason.
     let lone = dir.join("lone");
     std::fs::create_dir_all(&lone).expect("dir");
     std::fs::copy(out.join("metrics.json"), lone.join("metrics.json")).expect("copy");
-    let o = run(bin()
-        .args(["report", "--realistic"])
-        .arg(out.join("metrics.json"))
-        .arg("--clean")
-        .arg(out.join("metrics.json"))
-        .arg("--envelope")
-        .arg(lone.join("metrics.json"))
-        .arg("-o")
-        .arg(dir.join("results.md")));
+    let o = report(&["--envelope".into(), lone.join("metrics.json").into()]);
     assert_eq!(o.status.code(), Some(1));
     let missing = lone.join("params-flight.json");
     assert!(
@@ -197,18 +201,8 @@ fn end_to_end_on_a_short_flight() {
 
     // `--condition GROUP|LABEL|METRICS` adds a row of the flight default's ratios to its
     // group's table; a value without three parts is refused before anything is read.
-    let o = run(bin()
-        .args(["report", "--realistic"])
-        .arg(out.join("metrics.json"))
-        .arg("--clean")
-        .arg(out.join("metrics.json"))
-        .arg("--condition")
-        .arg(format!(
-            "Same pair|once more|{}",
-            out.join("metrics.json").display()
-        ))
-        .arg("-o")
-        .arg(dir.join("results.md")));
+    let condition = format!("Same pair|once more|{}", out.join("metrics.json").display());
+    let o = report(&["--condition".into(), condition.into()]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let md = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
     let row = md
@@ -220,15 +214,7 @@ fn end_to_end_on_a_short_flight() {
     // params-flight.json and params-extended-plain.json.
     assert_eq!(row.matches(" | ").count(), 9, "{row}");
     assert!(!row.contains("–"), "{row}");
-    let o = run(bin()
-        .args(["report", "--realistic"])
-        .arg(out.join("metrics.json"))
-        .arg("--clean")
-        .arg(out.join("metrics.json"))
-        .arg("--condition")
-        .arg("two|parts")
-        .arg("-o")
-        .arg(dir.join("results.md")));
+    let o = report(&["--condition".into(), "two|parts".into()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         text(&o.stderr).contains("expected GROUP|LABEL|METRICS"),
