@@ -19,7 +19,7 @@ pub const HOVER_TOLERANCE: f64 = 1.03;
 /// Envelope: the flight default's free-run error at most this fraction of [`BASELINE`]'s.
 pub const ENVELOPE_TARGET: f64 = 0.7;
 
-fn mark(ok: bool) -> &'static str {
+pub(crate) fn mark(ok: bool) -> &'static str {
     if ok {
         "✅"
     } else {
@@ -28,7 +28,7 @@ fn mark(ok: bool) -> &'static str {
 }
 
 /// The largest ratio `a[i] / b[i]` over the six states, with the state's label.
-fn worst_ratio(a: &[f64; 6], b: &[f64; 6]) -> (f64, &'static str) {
+pub(crate) fn worst_ratio(a: &[f64; 6], b: &[f64; 6]) -> (f64, &'static str) {
     const LABELS: [&str; 6] = ["v_x", "v_y", "v_z", "q", "r", "p"];
     (0..6)
         .map(|i| (a[i] / b[i], LABELS[i]))

@@ -15,3 +15,4 @@ pub mod log;
 pub mod precision;
 pub mod report;
 pub mod results;
+pub mod robustness;

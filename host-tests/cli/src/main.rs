@@ -23,6 +23,7 @@ use rotorid_cli::import::{self, ImportError};
 use rotorid_cli::log::{self, LogError};
 use rotorid_cli::report::{self, FigureError, Metrics, ReportError, Table4};
 use rotorid_cli::results::SecondPlant;
+use rotorid_cli::robustness::PlantRuns;
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
 use rotorid_sim::plant::{Airframe, FlightConfig, NoiseStd, PlantError};
@@ -96,6 +97,12 @@ enum Command {
         /// Simulated helicopter; the pilot and the inputs are scaled to it.
         #[arg(long, value_enum, default_value_t = Plant::Xcell60)]
         plant: Plant,
+        /// Fly another helicopter of the plant's kind instead: its parameters each varied by a
+        /// random factor drawn from this seed (mass ±15 %, inertias, hub, flapping, tail, fins
+        /// and fuselage up to 1.6× either way, head speed ±10 %; docs/robustness.md). Some
+        /// variations cannot hover; the simulation then says so.
+        #[arg(long, value_name = "SEED")]
+        plant_variation: Option<u64>,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -140,6 +147,22 @@ enum Command {
     /// scripts/results.sh).
     #[command(hide = true)]
     Report(ReportArgs),
+    /// Write docs/robustness.md from the metrics of plant variations (used by
+    /// scripts/robustness.sh).
+    #[command(hide = true)]
+    RobustnessReport {
+        /// One plant's runs as `FAMILY|LABEL|HOVER_METRICS|ENVELOPE_METRICS`: the table it goes
+        /// in, its row's label, and the metrics.json of its hover and envelope pairs.
+        /// Repeatable; tables and rows keep the order given.
+        #[arg(long = "run", value_name = "FAMILY|LABEL|HOVER|ENVELOPE", value_parser = parse_run)]
+        runs: Vec<(String, String, PathBuf, PathBuf)>,
+        /// The command lines that made the runs (quoted in the document).
+        #[arg(long)]
+        how: String,
+        /// Output markdown file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
 }
 
 /// The arguments of `rotorid report`.
@@ -202,6 +225,12 @@ enum CliError {
         airframe: &'static str,
         source: PlantError,
     },
+    #[error("plant {airframe}, variation {seed}: this variation cannot hover (try another seed)")]
+    Variation {
+        airframe: &'static str,
+        seed: u64,
+        source: PlantError,
+    },
     #[error("simulation")]
     Simulation(#[source] PlantError),
     #[error(transparent)]
@@ -249,6 +278,17 @@ enum CliError {
     Report(#[from] ReportError),
 }
 
+/// `FAMILY|LABEL|HOVER|ENVELOPE` of `robustness-report --run`.
+fn parse_run(s: &str) -> Result<(String, String, PathBuf, PathBuf), String> {
+    let mut parts = s.splitn(4, '|');
+    match (parts.next(), parts.next(), parts.next(), parts.next()) {
+        (Some(f), Some(l), Some(h), Some(e)) if !h.is_empty() && !e.is_empty() => {
+            Ok((f.to_string(), l.to_string(), h.into(), e.into()))
+        }
+        _ => Err(format!("expected FAMILY|LABEL|HOVER|ENVELOPE, got {s:?}")),
+    }
+}
+
 /// `GROUP|LABEL|METRICS` of `report --condition`.
 fn parse_condition(s: &str) -> Result<(String, String, PathBuf), String> {
     match s.split('|').collect::<Vec<_>>()[..] {
@@ -289,13 +329,14 @@ fn main() -> ExitCode {
             clean,
             noise_scale,
             plant,
+            plant_variation,
             output,
         } => run_simulate(
             kind,
             seed,
             duration,
             Sensors { clean, noise_scale },
-            plant.into(),
+            (plant.into(), plant_variation),
             &output,
         ),
         Command::Identify {
@@ -317,6 +358,9 @@ fn main() -> ExitCode {
         ),
         Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report(args) => run_report(&args),
+        Command::RobustnessReport { runs, how, output } => {
+            run_robustness_report(&runs, &how, &output)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -339,7 +383,7 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     sensors: Sensors,
-    airframe: Airframe,
+    (airframe, variation): (Airframe, Option<u64>),
     output: &Path,
 ) -> Result<(), CliError> {
     let scale = sensors.noise_scale;
@@ -376,6 +420,14 @@ fn run_simulate(
             airframe: airframe.name(),
             source,
         })?;
+    let config = match variation {
+        Some(seed) => config.varied(seed).map_err(|source| CliError::Variation {
+            airframe: airframe.name(),
+            seed,
+            source,
+        })?,
+        None => config,
+    };
     let samples = match kind {
         Kind::Identification => {
             flights::identification_flight_with(&config, duration.unwrap_or(f64::INFINITY))
@@ -558,6 +610,28 @@ fn run_identify(
     }
     eprintln!("wrote metrics.json and params-*.json to {}", out.display());
     Ok(())
+}
+
+fn run_robustness_report(
+    runs: &[(String, String, PathBuf, PathBuf)],
+    how: &str,
+    output: &Path,
+) -> Result<(), CliError> {
+    let runs = runs
+        .iter()
+        .map(|(family, label, hover, envelope)| {
+            Ok(PlantRuns {
+                family: family.clone(),
+                label: label.clone(),
+                hover: read_json(hover)?,
+                envelope: read_json(envelope)?,
+            })
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    write_text(
+        output,
+        rotorid_cli::robustness::robustness_document(&runs, how),
+    )
 }
 
 fn run_report(args: &ReportArgs) -> Result<(), CliError> {

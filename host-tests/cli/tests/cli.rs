@@ -607,3 +607,44 @@ fn noise_scale_multiplies_the_measurement_noise_only() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--plant-variation SEED` flies another helicopter of the plant's kind
+/// (`Helicopter::varied`): the same seed gives the same log, another seed or no variation
+/// another one, and the log starts at the varied plant's own hover trim.
+#[test]
+fn plant_variation_flies_another_helicopter_reproducibly() {
+    use rotorid_sim::plant::{trim_hover, Helicopter};
+    let dir = tmpdir("variation");
+    let fly = |plant: &str, variation: Option<&str>, name: &str| {
+        let out = dir.join(name);
+        let mut cmd = bin();
+        cmd.args(["simulate", "--kind", "verification", "--seed", "3"]);
+        cmd.args(["--duration", "2", "--plant", plant]);
+        if let Some(v) = variation {
+            cmd.args(["--plant-variation", v]);
+        }
+        let o = run(cmd.arg("-o").arg(&out));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        std::fs::read_to_string(&out).expect("log")
+    };
+    let first_col = |log: &str| -> f64 {
+        let row = log.lines().nth(1).expect("a sample");
+        row.split(',')
+            .nth(1)
+            .expect("u_col")
+            .parse()
+            .expect("number")
+    };
+    for (plant, params) in [
+        ("xcell60", Helicopter::default()),
+        ("flybarless600", Helicopter::flybarless_600()),
+    ] {
+        let five = fly(plant, Some("5"), &format!("{plant}-5.csv"));
+        assert_eq!(five, fly(plant, Some("5"), &format!("{plant}-5b.csv")));
+        assert_ne!(five, fly(plant, Some("6"), &format!("{plant}-6.csv")));
+        assert_ne!(five, fly(plant, None, &format!("{plant}.csv")));
+        let trim = trim_hover(&params.varied(5), 0.0).expect("variation 5 hovers");
+        assert_eq!(first_col(&five), trim.sticks.col, "{plant}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

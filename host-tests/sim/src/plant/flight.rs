@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::rk4_step;
-use super::params::Helicopter;
+use super::params::{Helicopter, XCell60};
 use super::pilot::{HoverPilot, PilotGains};
 use super::sensors::{jitter_steps, measure, Gust, NoiseStd, SensorSample, Turbulence};
 use super::trim::{trim_hover, HoverTrim};
@@ -144,6 +144,18 @@ impl FlightConfig {
         Ok(Self {
             params: airframe.params(),
             stick_scale: airframe.stick_scale()?,
+            ..self
+        })
+    }
+
+    /// This configuration flying a variation of its helicopter ([`Helicopter::varied`]), with
+    /// the stick scaling between the X-Cell 60 and the varied plant (the flight's inputs are
+    /// designed on the X-Cell). Fails if the variation cannot hover.
+    pub fn varied(self, seed: u64) -> Result<Self, PlantError> {
+        let params = self.params.varied(seed);
+        Ok(Self {
+            params,
+            stick_scale: StickScale::between(&XCell60::default(), &params)?,
             ..self
         })
     }

@@ -10,7 +10,9 @@
 //! * [`trim`]: the hover trim solver ([`trim_hover`]);
 //! * [`pilot`]: the hover-hold pilot flying the channels that are not excited;
 //! * [`sensors`]: 50 Hz samples with jitter, noise and turbulence options;
-//! * [`flight`]: the flight runner [`simulate`] and verification manoeuvres.
+//! * [`flight`]: the flight runner [`simulate`] and verification manoeuvres;
+//! * [`variation`]: other helicopters of the same kind, drawn around an airframe
+//!   ([`Helicopter::varied`]).
 //!
 //! Frames and units: body forward-right-down, inertial north-east-down, SI, angles in rad,
 //! rates in rad/s. Conversion to the paper's X-Plane axes is left to the experiment layer
@@ -28,6 +30,7 @@ pub mod pilot;
 pub mod rotor;
 pub mod sensors;
 pub mod trim;
+pub mod variation;
 
 use serde::{Deserialize, Serialize};
 
