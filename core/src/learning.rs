@@ -50,12 +50,22 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     /// [`predict_many`](Self::predict_many) from `&mut self`: the same predictions, and the
     /// estimator may keep what [`prepare`](Self::prepare) from the same premise needs next
     /// (the global estimator keeps nothing: the paper's identifier has no room for it).
+    /// `strengths`: the rule base's firing strengths at `premise` if the caller has them
+    /// (from an estimator with the same rule base), which the estimator may take instead of
+    /// computing them (see [`LocalTsRls::predict_keep`]).
     fn predict_keep<const M: usize>(
         &mut self,
         premise: &[T; V],
+        strengths: Option<&[T; R]>,
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
+        let _ = strengths;
         self.predict_many(premise, terms)
+    }
+    /// The firing strengths the last [`predict_keep`](Self::predict_keep) used, if the
+    /// estimator kept them and θ has not changed since.
+    fn kept_strengths(&self) -> Option<&[T; R]> {
+        None
     }
     /// Checks and computes an update without changing anything.
     fn prepare<const M: usize>(
@@ -173,9 +183,13 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     fn predict_keep<const M: usize>(
         &mut self,
         premise: &[T; V],
+        strengths: Option<&[T; R]>,
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
-        self.predict_keep(premise, terms)
+        self.predict_keep(premise, strengths, terms)
+    }
+    fn kept_strengths(&self) -> Option<&[T; R]> {
+        self.kept_strengths()
     }
     fn prepare<const M: usize>(
         &self,

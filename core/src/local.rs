@@ -193,13 +193,21 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
 
     /// [`predict_many`](Self::predict_many), keeping the firing strengths and block products
     /// for the update from the same premise at the next step ([`prepare`](Self::prepare)).
+    ///
+    /// `strengths`: the rule base's firing strengths at `premise` when the caller has them
+    /// already (an estimator with the same rule base computed them from the same premise),
+    /// taken as they are; `None`: computed here.
     pub fn predict_keep<const M: usize>(
         &mut self,
         premise: &[T; V],
+        strengths: Option<&[T; R]>,
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
         self.kept.valid = false;
-        let (strengths, b) = self.strengths_and_blocks(premise)?;
+        let (strengths, b) = match strengths {
+            Some(xi) => (*xi, self.block_products(xi)),
+            None => self.strengths_and_blocks(premise)?,
+        };
         self.kept = Kept {
             premise: *premise,
             strengths,
@@ -207,6 +215,12 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             valid: true,
         };
         self.predict_from_blocks(&b, terms)
+    }
+
+    /// The firing strengths the last [`predict_keep`](Self::predict_keep) computed or was
+    /// given, while θ has not changed since (`None` otherwise).
+    pub fn kept_strengths(&self) -> Option<&[T; R]> {
+        self.kept.valid.then_some(&self.kept.strengths)
     }
 
     /// ξ and `b` for this premise: kept from the last prediction, or computed.

@@ -7,6 +7,7 @@ use rotorid::learning::Learning;
 use rotorid::local::MIN_LOCAL_STRENGTH;
 use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
 use rotorid::rls::{Algorithm, RlsConfig};
+use rotorid::rule_base::PremiseSets;
 use rotorid::{
     Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, HoverIdentifier, LocalTsRls,
     Real, RuleBase, Scaling,
@@ -249,14 +250,52 @@ fn bits(s: &HoverState<f32>) -> [u32; 6] {
 
 #[test]
 fn kept_strengths_give_the_bits_of_a_recomputation() {
-    // `id` learns each sample with the ξ and block products kept from its prediction at the
-    // step before; the four models beside it compute them afresh. θ, P and the innovations
-    // must agree bit for bit at every step, and so must a prediction from another sample
-    // (whose premise differs from the one kept).
-    let mut id = flight();
-    let twin = flight();
-    let (mut v, mut q) = (twin.velocity_model().clone(), twin.pitch_model().clone());
-    let (mut r, mut p) = (twin.yaw_model().clone(), twin.roll_model().clone());
+    // All four models on the forward speed: the rate models take the velocity model's ξ.
+    matches_models_learning_afresh(flight());
+}
+
+#[test]
+fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
+    // The yaw model on forward and side speed (9 rules) cannot take the velocity model's ξ
+    // and computes its own; the roll model after it still takes them.
+    let flight = flight();
+    let config = HoverConfig::default();
+    let side = rotorid::hover::table3::three_sets((-5.0, 2.5), (0.0, 2.5), (5.0, 2.5));
+    let rules = RuleBase::new([flight_sets(), side, PremiseSets::new()]).unwrap();
+    let yaw = LocalRateModel::<f32, 9, 7, 28>::with_scaling(
+        RateAxis::Yaw,
+        rules,
+        RateStructure::Flight,
+        Premise::HeadingVelocity,
+        config.rls,
+        RateStructure::Flight.helicopter_scaling(),
+    )
+    .unwrap();
+    let id = HoverIdentifier::new(
+        flight.velocity_model().clone(),
+        flight.pitch_model().clone(),
+        yaw,
+        flight.roll_model().clone(),
+        config,
+    )
+    .unwrap();
+    matches_models_learning_afresh(id);
+}
+
+/// `id` learns each sample with the ξ and block products kept from its prediction at the
+/// step before (and the ξ one model shares with the others); copies of its four models
+/// compute them afresh. θ, P, the innovations and the step's prediction must agree bit for
+/// bit at every step, and so must a prediction from another sample (whose premise differs
+/// from the one kept).
+fn matches_models_learning_afresh<Vm, Qm, Rm, Pm>(mut id: HoverIdentifier<f32, Vm, Qm, Rm, Pm>)
+where
+    Vm: StateModel<f32, State: PartialEq + core::fmt::Debug> + Clone,
+    Qm: StateModel<f32, State: PartialEq + core::fmt::Debug> + Clone,
+    Rm: StateModel<f32, State: PartialEq + core::fmt::Debug> + Clone,
+    Pm: StateModel<f32, State: PartialEq + core::fmt::Debug> + Clone,
+{
+    let (mut v, mut q) = (id.velocity_model().clone(), id.pitch_model().clone());
+    let (mut r, mut p) = (id.yaw_model().clone(), id.roll_model().clone());
     id.step(&sample(0)).unwrap();
     for k in 1..1500 {
         let out = id.step(&sample(k)).unwrap();
@@ -265,6 +304,13 @@ fn kept_strengths_give_the_bits_of_a_recomputation() {
         innovation.rates[1] = learn_afresh(&mut r, k).rates[1];
         innovation.rates[2] = learn_afresh(&mut p, k).rates[2];
         assert_eq!(out.innovation.map(|i| bits(&i)), Some(bits(&innovation)));
+        let (now, before) = (sample::<f32>(k), sample::<f32>(k - 1).state());
+        let frame = BodyFrame::of(&now.attitude);
+        let mut expected = HoverState::default();
+        for model in [&v as &dyn Predicts, &q, &r, &p] {
+            model.predict_in_into(&now, &frame, &before, &mut expected);
+        }
+        assert_eq!(bits(&out.prediction), bits(&expected), "sample {k}");
         let elsewhere = sample::<f32>(k + 1000);
         let mut expected = HoverState::default();
         for model in [&v as &dyn Predicts, &q, &r, &p] {
@@ -327,11 +373,27 @@ fn learning_through_a_model_drops_what_it_kept() {
 /// A model's one-step prediction, object-safe (the four models differ in type).
 trait Predicts {
     fn predict_into(&self, s: &HoverSample<f32>, next: &mut HoverState<f32>);
+    fn predict_in_into(
+        &self,
+        s: &HoverSample<f32>,
+        frame: &BodyFrame<f32>,
+        before: &HoverState<f32>,
+        next: &mut HoverState<f32>,
+    );
 }
 
 impl<M: StateModel<f32>> Predicts for M {
     fn predict_into(&self, s: &HoverSample<f32>, next: &mut HoverState<f32>) {
         self.predict(s, next).unwrap();
+    }
+    fn predict_in_into(
+        &self,
+        s: &HoverSample<f32>,
+        frame: &BodyFrame<f32>,
+        before: &HoverState<f32>,
+        next: &mut HoverState<f32>,
+    ) {
+        self.predict_in(s, frame, before, next).unwrap();
     }
 }
 
@@ -428,5 +490,43 @@ fn the_flight_identifier_runs_in_f64() {
     for k in 0..1000 {
         let out = id.step(&sample::<f64>(k)).unwrap();
         assert!(out.prediction.to_array().iter().all(|x| x.is_finite()));
+    }
+}
+
+#[test]
+fn shared_strengths_are_taken_only_by_the_same_premise_and_sets() {
+    use rotorid::hover::{table3::three_sets, SharedStrengths};
+    let none = PremiseSets::<f32>::new;
+    let forward = RuleBase::<f32, 3, 3>::new([flight_sets(), none(), none()]).unwrap();
+    let xi = forward.firing_strengths(&[4.0, 1.0, 0.0]).unwrap();
+    let shared = SharedStrengths::new(Premise::HeadingVelocity, &forward, &xi);
+    let twin = RuleBase::<f32, 3, 3>::new([flight_sets(), none(), none()]).unwrap();
+    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &twin), Some(&xi));
+    // Another premise, other sets, the same sets on another variable, another rule count.
+    assert_eq!(shared.for_rules(Premise::Velocity, &twin), None);
+    let moved = three_sets((0.0, 2.5), (5.5, 2.5), (10.0, 2.5));
+    let moved = RuleBase::<f32, 3, 3>::new([moved, none(), none()]).unwrap();
+    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &moved), None);
+    let side = RuleBase::<f32, 3, 3>::new([none(), flight_sets(), none()]).unwrap();
+    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &side), None);
+    let one = RuleBase::<f32, 3, 1>::single_rule().unwrap();
+    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &one), None);
+}
+
+/// Sets are compared by value, so a centre of −0 matches one of +0: both must give the same
+/// strengths, bit for bit, on both signs of zero and elsewhere (also where every degree
+/// underflows and the strengths come from the exponents).
+#[test]
+fn a_centre_of_minus_zero_gives_the_strengths_of_plus_zero() {
+    use rotorid::hover::table3::three_sets;
+    let none = PremiseSets::<f32>::new;
+    let plus = RuleBase::<f32, 3, 3>::new([flight_sets(), none(), none()]).unwrap();
+    let minus = three_sets((-0.0, 2.5), (5.0, 2.5), (10.0, 2.5));
+    let minus = RuleBase::<f32, 3, 3>::new([minus, none(), none()]).unwrap();
+    assert_eq!(plus, minus);
+    for x in [0.0f32, -0.0, 1e-30, -1e-30, -3.0, 2.5, 7.0, -400.0, 1e6] {
+        let a = plus.firing_strengths(&[x, 0.0, 0.0]).unwrap();
+        let b = minus.firing_strengths(&[x, 0.0, 0.0]).unwrap();
+        assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "x = {x}");
     }
 }

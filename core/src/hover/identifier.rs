@@ -402,10 +402,17 @@ where
     ) -> Result<HoverState<T>, Error> {
         let mut next = HoverState::default();
         self.velocity
-            .predict_keep(sample, frame, before, &mut next)?;
-        self.pitch.predict_keep(sample, frame, before, &mut next)?;
-        self.yaw.predict_keep(sample, frame, before, &mut next)?;
-        self.roll.predict_keep(sample, frame, before, &mut next)?;
+            .predict_keep(sample, frame, before, None, &mut next)?;
+        // The rate models take the velocity model's firing strengths where their premise and
+        // sets are the same (the flight identifier's are): computed once per sample.
+        let shared = self.velocity.kept_strengths();
+        let shared = shared.as_ref();
+        self.pitch
+            .predict_keep(sample, frame, before, shared, &mut next)?;
+        self.yaw
+            .predict_keep(sample, frame, before, shared, &mut next)?;
+        self.roll
+            .predict_keep(sample, frame, before, shared, &mut next)?;
         finite(next)
     }
 

@@ -25,8 +25,8 @@ mod variants;
 pub use config::{HoverConfig, RegressorScaling};
 pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
 pub use models::{
-    right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
-    VelocityModel, VelocityStructure,
+    right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure,
+    SharedStrengths, StateModel, VelocityModel, VelocityStructure,
 };
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{

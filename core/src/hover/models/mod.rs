@@ -9,6 +9,7 @@
 use crate::error::{ConfigError, Error};
 use crate::hover::sample::{HoverSample, HoverState};
 use crate::rls::RlsConfig;
+use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
 
 mod frame;
@@ -51,7 +52,7 @@ pub trait StateModel<T: Real> {
     /// The premise the rules are scheduled on and each premise variable's sets (an empty
     /// list: the variable does not take part), as a tool writes them next to an export so
     /// that a firmware can rebuild the same rule base.
-    fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]);
+    fn premise_sets(&self) -> (Premise, &[PremiseSets<T>]);
     /// Calls `f` with a view of each of the model's RLS estimators, in export order (see
     /// [`TsEstimator::for_each_rls`](crate::learning::TsEstimator::for_each_rls)).
     fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>));
@@ -88,15 +89,66 @@ pub trait StateModel<T: Real> {
     /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
     /// estimator may keep what the update from `from` at the next step reuses (the local
     /// one keeps its firing strengths and block products, see
-    /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)).
+    /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)). `shared`: firing
+    /// strengths another model computed at `from`, which this one takes if they are its own
+    /// (see [`SharedStrengths`]).
     fn predict_keep(
         &mut self,
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
+        shared: Option<&SharedStrengths<'_, T>>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
+        let _ = shared;
         self.predict_in(from, from_frame, before, next)
+    }
+
+    /// The firing strengths the last [`predict_keep`](Self::predict_keep) used, to offer to
+    /// the other models, if the estimator kept them (and has not learnt since).
+    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+        None
+    }
+}
+
+/// Normalised firing strengths ξ that one model computed at a sample, offered to the others:
+/// a model scheduled on the same premise with the same sets (as the flight identifier's four
+/// are, on the forward speed) takes them instead of computing them again. The same premise
+/// of the same sample and the same sets give the same ξ, bit for bit, so sharing changes no
+/// result, only the cost.
+#[derive(Copy, Clone, Debug)]
+pub struct SharedStrengths<'a, T> {
+    premise: Premise,
+    sets: &'a [PremiseSets<T>],
+    strengths: &'a [T],
+}
+
+impl<'a, T: Real> SharedStrengths<'a, T> {
+    /// The strengths of the rule base `rules` at `premise` of one sample.
+    pub fn new<const V: usize, const R: usize>(
+        premise: Premise,
+        rules: &'a RuleBase<T, V, R>,
+        strengths: &'a [T; R],
+    ) -> Self {
+        Self {
+            premise,
+            sets: rules.variables(),
+            strengths,
+        }
+    }
+
+    /// The strengths, if a model on `premise` with the rule base `rules` would compute the
+    /// same at this sample: same premise variables, same sets (compared by value: a centre of
+    /// −0 and one of +0 give the same degrees, `((x − c)/σ)²` drops the sign) and rule count.
+    pub fn for_rules<const V: usize, const R: usize>(
+        &self,
+        premise: Premise,
+        rules: &RuleBase<T, V, R>,
+    ) -> Option<&'a [T; R]> {
+        if premise != self.premise || self.sets != rules.variables().as_slice() {
+            return None;
+        }
+        self.strengths.try_into().ok()
     }
 }
 

@@ -8,7 +8,7 @@ use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
 
-use super::{check_terms, BodyFrame, Premise, StateModel};
+use super::{check_terms, BodyFrame, Premise, SharedStrengths, StateModel};
 
 /// Which body rate an angular model predicts.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -312,11 +312,13 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
+        shared: Option<&SharedStrengths<'_, T>>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         let premise = self.premise.of(from, from_frame);
+        let strengths = shared.and_then(|s| s.for_rules(self.premise, self.ts.rules()));
         let terms = [self.terms_in(from, from_frame, &before.rates)];
-        let [increment] = self.ts.predict_keep(&premise, &terms)?;
+        let [increment] = self.ts.predict_keep(&premise, strengths, &terms)?;
         self.advance(from, increment, next);
         Ok(())
     }
@@ -364,5 +366,14 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
 
     fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
         (self.premise, self.ts.rules().variables())
+    }
+
+    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+        let strengths = self.ts.kept_strengths()?;
+        Some(SharedStrengths::new(
+            self.premise,
+            self.ts.rules(),
+            strengths,
+        ))
     }
 }

@@ -8,7 +8,7 @@ use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
 
-use super::{check_terms, BodyFrame, Premise, StateModel};
+use super::{check_terms, BodyFrame, Premise, SharedStrengths, StateModel};
 
 /// Consequent structure of the translational model.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -290,11 +290,13 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         from: &HoverSample<T>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
+        shared: Option<&SharedStrengths<'_, T>>,
         next: &mut HoverState<T>,
     ) -> Result<(), Error> {
         let premise = self.premise.of(from, from_frame);
+        let strengths = shared.and_then(|s| s.for_rules(self.premise, self.ts.rules()));
         let terms = self.terms_in(from, from_frame, &before.velocity);
-        let increments = self.ts.predict_keep(&premise, &terms)?;
+        let increments = self.ts.predict_keep(&premise, strengths, &terms)?;
         next.velocity = advance(from, &increments);
         Ok(())
     }
@@ -339,6 +341,15 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
 
     fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
         (self.premise, self.ts.rules().variables())
+    }
+
+    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+        let strengths = self.ts.kept_strengths()?;
+        Some(SharedStrengths::new(
+            self.premise,
+            self.ts.rules(),
+            strengths,
+        ))
     }
 }
 
