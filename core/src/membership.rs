@@ -46,6 +46,16 @@ impl<T: Real> MembershipFunction<T> {
         }
     }
 
+    /// Whether `other` is the same kind of set with the same centre and spread, bit for bit
+    /// (then it gives the same degrees, bit for bit).
+    #[inline]
+    pub fn same_bits(&self, other: &Self) -> bool {
+        let ((c, s), (oc, os)) = (self.parameters(), other.parameters());
+        core::mem::discriminant(self) == core::mem::discriminant(other)
+            && c.to_bits_u64() == oc.to_bits_u64()
+            && s.to_bits_u64() == os.to_bits_u64()
+    }
+
     /// Whether c is finite and σ is finite and strictly positive.
     pub fn is_valid(&self) -> bool {
         let (c, s) = self.parameters();

@@ -64,6 +64,16 @@ impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
         &self.variables
     }
 
+    /// Whether `sets` are this rule base's sets, bit for bit: then a rule base over `sets`
+    /// has the same rules and the same firing strengths at every premise.
+    pub fn has_sets(&self, sets: &[PremiseSets<T>]) -> bool {
+        sets.len() == V
+            && self.variables.iter().zip(sets.iter()).all(|(mine, theirs)| {
+                mine.len() == theirs.len()
+                    && mine.iter().zip(theirs.iter()).all(|(a, b)| a.same_bits(b))
+            })
+    }
+
     /// Checks that every premise value that takes part is finite.
     pub fn check_premise(&self, x: &[T; V]) -> Result<(), Error> {
         for (v, (sets, xv)) in self.variables.iter().zip(x.iter()).enumerate() {

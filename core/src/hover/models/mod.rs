@@ -138,14 +138,14 @@ impl<'a, T: Real> SharedStrengths<'a, T> {
     }
 
     /// The strengths, if a model on `premise` with the rule base `rules` would compute the
-    /// same at this sample: same premise variables, same sets (compared by value: a centre of
-    /// −0 and one of +0 give the same degrees, `((x − c)/σ)²` drops the sign) and rule count.
+    /// same at this sample: the same premise variables and the same sets, bit for bit
+    /// ([`RuleBase::has_sets`]).
     pub fn for_rules<const V: usize, const R: usize>(
         &self,
         premise: Premise,
         rules: &RuleBase<T, V, R>,
     ) -> Option<&'a [T; R]> {
-        if premise != self.premise || self.sets != rules.variables().as_slice() {
+        if premise != self.premise || !rules.has_sets(self.sets) {
             return None;
         }
         self.strengths.try_into().ok()
