@@ -67,11 +67,7 @@ impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
     /// Whether `sets` are this rule base's sets, bit for bit: then a rule base over `sets`
     /// has the same rules and the same firing strengths at every premise.
     pub fn has_sets(&self, sets: &[PremiseSets<T>]) -> bool {
-        sets.len() == V
-            && self.variables.iter().zip(sets.iter()).all(|(mine, theirs)| {
-                mine.len() == theirs.len()
-                    && mine.iter().zip(theirs.iter()).all(|(a, b)| a.same_bits(b))
-            })
+        same_sets(&self.variables, sets)
     }
 
     /// Checks that every premise value that takes part is finite.
@@ -108,6 +104,14 @@ impl<T: Real, const V: usize, const R: usize> RuleBase<T, V, R> {
             remaining: R,
         }
     }
+}
+
+/// Whether two rule bases' sets (one list per premise variable) are the same, bit for bit.
+pub fn same_sets<T: Real>(a: &[PremiseSets<T>], b: &[PremiseSets<T>]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.len() == y.len() && x.iter().zip(y.iter()).all(|(f, g)| f.same_bits(g)))
 }
 
 /// The firing strengths of a rule base with sets `variables` at premise `x` (checked finite)

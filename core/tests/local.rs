@@ -282,6 +282,30 @@ fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
     matches_models_learning_afresh(id);
 }
 
+#[test]
+fn a_model_replaced_through_its_mut_access_is_not_given_the_old_sets_strengths() {
+    // The identifier finds once which models share the velocity model's sets; a yaw model
+    // with other sets put in its place must compute its own again.
+    let mut id = flight();
+    for k in 0..5 {
+        id.step(&sample(k)).unwrap();
+    }
+    let config = HoverConfig::default();
+    let moved = rotorid::hover::table3::three_sets((0.0, 2.5), (6.0, 3.0), (10.0, 2.5));
+    let rules = RuleBase::new([moved, PremiseSets::new(), PremiseSets::new()]).unwrap();
+    *id.yaw_model_mut() = LocalRateModel::<f32, 3, 7, 28>::with_scaling(
+        RateAxis::Yaw,
+        rules,
+        RateStructure::Flight,
+        Premise::HeadingVelocity,
+        config.rls,
+        RateStructure::Flight.helicopter_scaling(),
+    )
+    .unwrap();
+    id.end_chain();
+    matches_models_learning_afresh(id);
+}
+
 /// `id` learns each sample with the ξ and block products kept from its prediction at the
 /// step before (and the ξ one model shares with the others); copies of its four models
 /// compute them afresh. θ, P, the innovations and the step's prediction must agree bit for

@@ -2,9 +2,10 @@
 
 use crate::error::Error;
 use crate::hover::config::{HoverConfig, RegressorScaling};
-use crate::hover::models::{BodyFrame, StateModel};
+use crate::hover::models::{BodyFrame, Premise, SharedStrengths, StateModel};
 use crate::hover::sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
 use crate::rls::RlsView;
+use crate::rule_base::{same_sets, PremiseSets};
 use crate::scalar::Real;
 
 /// What one [`HoverIdentifier::step`] reports.
@@ -203,6 +204,51 @@ pub(super) struct Timing {
     /// Whether `chain` holds a sample. Its `before` is then valid too: a chain's first sample
     /// stands in for the sample before it.
     chained: bool,
+    sharing: Sharing,
+}
+
+/// Which rate models are scheduled on the velocity model's premise with its sets, and so take
+/// its firing strengths ([`SharedStrengths`]) without comparing the sets at every sample.
+/// Found at the first prediction, and again after a model was handed out mutably (which could
+/// replace it). One byte in [`Timing`]'s padding.
+///
+/// A cache, not state: it changes no result, and takes no part in equality.
+#[derive(Copy, Clone, Debug)]
+struct Sharing(u8);
+
+impl Sharing {
+    /// Not found yet.
+    const UNKNOWN: Self = Self(0);
+    const KNOWN: u8 = 1;
+
+    fn of<T: Real>(
+        velocity: &impl StateModel<T>,
+        rates: [(Premise, &[PremiseSets<T>]); 3],
+    ) -> Self {
+        let (premise, sets) = velocity.premise_sets();
+        let mut bits = Self::KNOWN;
+        for (i, (p, s)) in rates.into_iter().enumerate() {
+            if p == premise && same_sets(s, sets) {
+                bits |= 2 << i;
+            }
+        }
+        Self(bits)
+    }
+
+    fn known(self) -> bool {
+        self.0 & Self::KNOWN != 0
+    }
+
+    /// Whether rate model `i` (0 q̂, 1 r̂, 2 p̂) takes the velocity model's strengths.
+    fn takes(self, i: u8) -> bool {
+        self.0 & (2 << i) != 0
+    }
+}
+
+impl PartialEq for Sharing {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl Timing {
@@ -212,6 +258,7 @@ impl Timing {
             period_tolerance_us: config.period_tolerance_us,
             scaling: config.scaling,
             chained: false,
+            sharing: Sharing::UNKNOWN,
         }
     }
 }
@@ -405,14 +452,26 @@ where
             .predict_keep(sample, frame, before, None, &mut next)?;
         // The rate models take the velocity model's firing strengths where their premise and
         // sets are the same (the flight identifier's are): computed once per sample.
-        let shared = self.velocity.kept_strengths();
-        let shared = shared.as_ref();
+        if !self.timing.sharing.known() {
+            let rates = [
+                self.pitch.premise_sets(),
+                self.yaw.premise_sets(),
+                self.roll.premise_sets(),
+            ];
+            self.timing.sharing = Sharing::of(&self.velocity, rates);
+        }
+        let sharing = self.timing.sharing;
+        let shared = self
+            .velocity
+            .kept_strengths()
+            .map(SharedStrengths::with_sets_checked);
+        let to = |i| shared.as_ref().filter(|_| sharing.takes(i));
         self.pitch
-            .predict_keep(sample, frame, before, shared, &mut next)?;
+            .predict_keep(sample, frame, before, to(0), &mut next)?;
         self.yaw
-            .predict_keep(sample, frame, before, shared, &mut next)?;
+            .predict_keep(sample, frame, before, to(1), &mut next)?;
         self.roll
-            .predict_keep(sample, frame, before, shared, &mut next)?;
+            .predict_keep(sample, frame, before, to(2), &mut next)?;
         finite(next)
     }
 
@@ -481,21 +540,25 @@ where
     /// firmware can stage one model's state instead of a whole snapshot). Importing a model
     /// does not restart the sample chain.
     pub fn velocity_model_mut(&mut self) -> &mut Vm {
+        self.timing.sharing = Sharing::UNKNOWN;
         &mut self.velocity
     }
 
     /// Mutable access to the q̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn pitch_model_mut(&mut self) -> &mut Qm {
+        self.timing.sharing = Sharing::UNKNOWN;
         &mut self.pitch
     }
 
     /// Mutable access to the r̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn yaw_model_mut(&mut self) -> &mut Rm {
+        self.timing.sharing = Sharing::UNKNOWN;
         &mut self.yaw
     }
 
     /// Mutable access to the p̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn roll_model_mut(&mut self) -> &mut Pm {
+        self.timing.sharing = Sharing::UNKNOWN;
         &mut self.roll
     }
 

@@ -121,6 +121,9 @@ pub struct SharedStrengths<'a, T> {
     premise: Premise,
     sets: &'a [PremiseSets<T>],
     strengths: &'a [T],
+    /// The caller compared the sets of the model it hands these to (see
+    /// [`for_rules`](Self::for_rules)).
+    sets_checked: bool,
 }
 
 impl<'a, T: Real> SharedStrengths<'a, T> {
@@ -134,6 +137,16 @@ impl<'a, T: Real> SharedStrengths<'a, T> {
             premise,
             sets: rules.variables(),
             strengths,
+            sets_checked: false,
+        }
+    }
+
+    /// The same strengths, for a model whose premise and sets the caller has compared with
+    /// these (the identifier does so once, not at every sample: see its `Sharing`).
+    pub(crate) fn with_sets_checked(self) -> Self {
+        Self {
+            sets_checked: true,
+            ..self
         }
     }
 
@@ -145,7 +158,7 @@ impl<'a, T: Real> SharedStrengths<'a, T> {
         premise: Premise,
         rules: &RuleBase<T, V, R>,
     ) -> Option<&'a [T; R]> {
-        if premise != self.premise || !rules.has_sets(self.sets) {
+        if premise != self.premise || !(self.sets_checked || rules.has_sets(self.sets)) {
             return None;
         }
         self.strengths.try_into().ok()
