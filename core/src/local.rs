@@ -211,6 +211,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     }
 
     /// `b_s = Σ_i ξ_i θ̃_{i,s}`: the rule-weighted parameter of each term.
+    #[inline(always)]
     fn block_products(&self, strengths: &[T; R]) -> [T; D] {
         let mut b = [T::zero(); D];
         for (&w, rls) in strengths.iter().zip(self.local.iter()) {
