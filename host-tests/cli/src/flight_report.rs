@@ -117,8 +117,19 @@ fn drag(
     Some(slots.iter().map(|&slot| physical(slot)).collect())
 }
 
+/// The speed stability `M_u` that the flight default's q model learnt in its first (hover)
+/// rule, from its exported parameters (`κ`, [`RateStructure::Flight`]'s sixth term), in
+/// (deg/s²)/(m/s): positive pitches the nose up with forward speed, as a rotor that flaps
+/// back does.
+fn speed_stability(params: &[ModelParameters], period_s: f64) -> Option<f64> {
+    let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>();
+    let theta = params.iter().find(|p| p.model == "q")?.theta.get(..7)?;
+    Some(f64::from(theta[5]) * scaling.target / scaling.terms[5] / period_s)
+}
+
 /// One table per group of [`Condition`]s: the flight default's free-run error ratio to
-/// [`BASELINE`] per state, its worst one-step ratio, and the drag both learnt ([`drag`]).
+/// [`BASELINE`] per state, its worst one-step ratio, the drag both learnt ([`drag`]) and the
+/// flight default's hover speed stability ([`speed_stability`]).
 pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut groups: Vec<&str> = Vec::new();
     for c in conditions {
@@ -129,8 +140,8 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut s = String::new();
     for group in groups {
         s += &format!(
-            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) |\n\
-             |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s)) |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
         );
         for c in conditions.iter().filter(|c| c.group == group) {
             let find = |n: &str| c.metrics.variants.iter().find(|v| v.name == n);
@@ -155,8 +166,10 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
             };
             let flight = cell(&c.params, VelocityStructure::Flight);
             let base = cell(&c.baseline_params, VelocityStructure::Extended);
+            let m_u =
+                speed_stability(&c.params, 0.02).map_or_else(|| "–".into(), |m| format!("{m:.1}"));
             s += &format!(
-                "| {} | {} | {worst:.2} ({state}) | {flight} | {base} |\n",
+                "| {} | {} | {worst:.2} ({state}) | {flight} | {base} | {m_u} |\n",
                 c.label,
                 cells.join(" | ")
             );

@@ -210,14 +210,51 @@ fn end_to_end_on_a_short_flight() {
         .find(|l| l.starts_with("| once more | "))
         .unwrap_or_else(|| panic!("no condition row in:\n{md}"));
     assert!(md.contains("#### Same pair\n"), "{md}");
-    // Ten cells (label, six states, one step, two drags), the drags read from
-    // params-flight.json and params-extended-plain.json.
-    assert_eq!(row.matches(" | ").count(), 9, "{row}");
+    // Eleven cells (label, six states, one step, two drags, q's speed stability), the drags
+    // and M_u read from params-flight.json and params-extended-plain.json.
+    assert_eq!(row.matches(" | ").count(), 10, "{row}");
     assert!(!row.contains("–"), "{row}");
     let o = report(&["--condition".into(), "two|parts".into()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         text(&o.stderr).contains("expected GROUP|LABEL|METRICS"),
+        "{}",
+        text(&o.stderr)
+    );
+
+    // `robustness-report --run FAMILY|LABEL|HOVER|ENVELOPE`: one row per plant in its family's
+    // table, each criterion marked, and the family's count of plants meeting each.
+    let m = out.join("metrics.json").display().to_string();
+    let robustness = |runs: &[String]| {
+        let mut cmd = bin();
+        cmd.arg("robustness-report");
+        for r in runs {
+            cmd.args(["--run", r]);
+        }
+        run(cmd
+            .args(["--how", "by hand", "-o"])
+            .arg(dir.join("robustness.md")))
+    };
+    let o = robustness(&[
+        format!("Fam|plant A|{m}|{m}"),
+        format!("Fam|plant B|{m}|{m}"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let md = std::fs::read_to_string(dir.join("robustness.md")).expect("robustness.md");
+    assert!(md.contains("### Fam\n"), "{md}");
+    assert!(md.contains("by hand"), "{md}");
+    let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| plant ")).collect();
+    // The header row starts with "| plant |" too.
+    assert_eq!(rows.len(), 3, "{md}");
+    assert_eq!(rows[1].replace("plant A", "plant B"), rows[2], "{md}");
+    assert!(md.contains("Of 2 plants: "), "{md}");
+    // Two equal plants: both meet every criterion or neither does.
+    let all = if rows[1].contains('❌') { 0 } else { 2 };
+    assert!(md.contains(&format!("every criterion: {all}.")), "{md}");
+    let o = robustness(&["Fam|plant A|only-hover".into()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("expected FAMILY|LABEL|HOVER|ENVELOPE"),
         "{}",
         text(&o.stderr)
     );
