@@ -59,7 +59,7 @@ identifier's three forward-speed rules all learn at most steps. SysTick ticks ×
 ${worst}
 
 Target for the flight identifier (issue 11): at most 15 000 instructions on average.
-**Not met**: up to three rules per model each make a 7-parameter U-D update (about 40 % of
+**Not met**: up to three rules per model each make a 7-parameter U-D update (about 45 % of
 the step, see below), and the three \`sincosf\` of the body frame compute in f64 soft-float
 (\`__muldf3\`, \`__adddf3\`: about a quarter of the step), which the rule "transcendental maths
 through \`libm\`" keeps.
@@ -87,13 +87,19 @@ step; every change kept the predictions' hashes):
 | sums over every ξ entry up to 16 parameters (a local rule's regressor is rarely zero) | 28 080 | 29 320 |
 | the U-D column loop bounded by N (unrolled instead of by 4 plus a remainder) | 26 600 | 27 720 |
 | \`combine\` without a test per term; \`apply\` clears only the kept flag | 24 840 | 25 920 |
+| the rate models take the velocity model's firing strengths (\`SharedStrengths\`; which models share is found once, not at every sample) | 23 600 | 24 680 |
+| √ξ_i once per rule and sample for all four models (\`SquareRoots\`); \`block_products\` inlined | 23 200 | 24 240 |
 | now | see table | see table |
 
-Not done (the models' code, or the rules): the four models compute the same forward-speed
-firing strengths each (\`strengths\`, \`expf\`, \`strengths_and_blocks\`: about 2 200
-instructions per step, three quarters of which sharing them would save), and \`sqrtf\` (√ξ_i of
-local learning) is libm's software square root (the M4F's \`vsqrt\`, the same bits, is reachable
-on stable Rust only through \`unsafe\` asm).
+The forward-speed firing strengths are computed once per sample (by the velocity model; the
+rate models, on the same premise and sets, take them) and each √ξ_i once per rule and sample:
+\`strengths\`, \`expf\` and \`sqrtf\` went from about 2 140 to about 530 instructions per step.
+Not done: what is left besides the U-D update and \`sincosf\` is spread over the four models'
+own work (their terms and premise, \`scaled_terms\`' divisions by the nominal scales at both
+prediction and update, the kept-premise checks, the block products: \`prepare_in\`,
+\`predict_keep\`, \`apply\` together about 4 200 instructions per step), most of it each model's own
+(only the premise, a few products, is the same in all four); \`sqrtf\` is libm's software square root (the M4F's \`vsqrt\`, the
+same bits, is reachable on stable Rust only through \`unsafe\` asm).
 
 ## Flash and RAM (\`arm-none-eabi-size\`)
 
@@ -107,7 +113,7 @@ identification core is \`rotorid\` (the identifiers' code, monomorphised for the
 four identifiers: the paper pair and the flight pair) plus \`libm\` and \`compiler_builtins\` (\`sincosf\` computes in f64,
 soft-float on the M4F) and most of \`firmware_example::ident\` (the identifiers'
 instantiation and their messages). RAM: an identifier takes its \`size_of\` (\`cargo run -p rotorid --example
-memory\`: \`FlightIdentifier<f32>\` 2 824 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
+memory\`: \`FlightIdentifier<f32>\` 3 044 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
 stack of one step (the service's peak is in the memory line above).
 
 ${by_crate}
