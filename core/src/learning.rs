@@ -3,7 +3,7 @@
 //! share, so that the helicopter models are written once over either.
 
 use crate::error::Error;
-use crate::local::{LocalState, LocalTsRls, SquareRoots};
+use crate::local::{LocalState, LocalTsRls};
 use crate::rls::{RlsConfig, RlsState, RlsView};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
@@ -74,14 +74,8 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
         terms: &[[T; D]; M],
         targets: &[T; M],
     ) -> Result<Prepared<T, R, D, M>, Error>;
-    /// Learns from a prepared update. `roots`: the square roots of firing strengths that
-    /// the estimators learning from the same sample computed (the local estimator takes and
-    /// adds to them; the global one has none to take).
-    fn apply<const M: usize>(
-        &mut self,
-        prepared: &Prepared<T, R, D, M>,
-        roots: &mut SquareRoots<T>,
-    );
+    /// Learns from a prepared update.
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>);
     /// Back to θ = 0, P = αI.
     fn reset(&mut self);
     /// Everything learnt (scaled coordinates).
@@ -134,7 +128,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     ) -> Result<Prepared<T, R, D, M>, Error> {
         self.prepare(premise, terms, targets)
     }
-    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>, _: &mut SquareRoots<T>) {
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
         self.apply(prepared)
     }
     fn reset(&mut self) {
@@ -205,12 +199,8 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     ) -> Result<Prepared<T, R, D, M>, Error> {
         self.prepare(premise, terms, targets)
     }
-    fn apply<const M: usize>(
-        &mut self,
-        prepared: &Prepared<T, R, D, M>,
-        roots: &mut SquareRoots<T>,
-    ) {
-        self.apply_with(prepared, roots)
+    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+        self.apply(prepared)
     }
     fn reset(&mut self) {
         self.reset()

@@ -29,7 +29,7 @@
 
 use crate::error::{ConfigError, Error, Quantity};
 use crate::rls::{AllParameters, Rls, RlsConfig, RlsState, TARGET_LIMIT};
-use crate::rule_base::{RuleBase, MAX_SETS};
+use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
 use crate::ts::{combine, prepare_rows, scaled_terms, Prepared, Scaling};
 
@@ -92,48 +92,6 @@ impl<T: Real, const V: usize, const R: usize, const D: usize> Kept<T, V, R, D> {
 impl<T, const V: usize, const R: usize, const D: usize> PartialEq for Kept<T, V, R, D> {
     fn eq(&self, _: &Self) -> bool {
         true
-    }
-}
-
-/// The square roots `√ξ_i` of rules 0..[`MAX_SETS`] that the estimators learning from one
-/// sample have computed, so that an estimator whose rule i has the same strength, bit for bit,
-/// takes it instead of computing it again: the flight identifier's four models have the same
-/// strengths (see [`SharedStrengths`](crate::hover::SharedStrengths)). The same input to the
-/// same function gives the same bits, so remembering changes no result.
-#[derive(Clone, Copy, Debug)]
-pub struct SquareRoots<T> {
-    of: [T; MAX_SETS],
-    root: [T; MAX_SETS],
-}
-
-impl<T: Real> SquareRoots<T> {
-    /// Remembers √0 = 0 for every rule (a strength below [`MIN_LOCAL_STRENGTH`] is never
-    /// asked for).
-    pub fn new() -> Self {
-        Self {
-            of: [T::zero(); MAX_SETS],
-            root: [T::zero(); MAX_SETS],
-        }
-    }
-
-    /// `√x` for rule `rule`: remembered if it was asked for with the same `x`, or computed
-    /// (and remembered in place of the rule's last one).
-    pub fn sqrt(&mut self, rule: usize, x: T) -> T {
-        match (self.of.get_mut(rule), self.root.get_mut(rule)) {
-            (Some(of), Some(root)) => {
-                if of.to_bits_u64() != x.to_bits_u64() {
-                    (*of, *root) = (x, x.sqrt());
-                }
-                *root
-            }
-            _ => x.sqrt(),
-        }
-    }
-}
-
-impl<T: Real> Default for SquareRoots<T> {
-    fn default() -> Self {
-        Self::new()
     }
 }
 
@@ -314,27 +272,12 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     /// the model unchanged since: every rule with `ξ_i ≥` [`MIN_LOCAL_STRENGTH`] takes each row
     /// weighted by `√ξ_i`, forgetting with `λ_i` once per sample.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
-        self.apply_with(prepared, &mut SquareRoots::new());
-    }
-
-    /// [`apply`](Self::apply), taking `√ξ_i` from `roots` where another estimator learning
-    /// from the same sample computed it (see [`SquareRoots`]).
-    pub fn apply_with<const M: usize>(
-        &mut self,
-        prepared: &Prepared<T, R, D, M>,
-        roots: &mut SquareRoots<T>,
-    ) {
         // θ changes: what was kept is stale (clearing the flag is enough, and cheaper than
         // writing a whole `Kept::none()` at every step).
         self.kept.valid = false;
         let min = T::lit(MIN_LOCAL_STRENGTH);
         let last = prepared.count.saturating_sub(1);
-        for (i, (&w, rls)) in prepared
-            .strengths
-            .iter()
-            .zip(self.local.iter_mut())
-            .enumerate()
-        {
+        for (&w, rls) in prepared.strengths.iter().zip(self.local.iter_mut()) {
             // Strengths are finite, in [0, 1] (the rule base makes them so).
             if w < min {
                 continue;
@@ -344,7 +287,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             let (root, lambda_i) = if w == T::one() {
                 (T::one(), lambda)
             } else {
-                (roots.sqrt(i, w), T::one() - (T::one() - lambda) * w)
+                (w.sqrt(), T::one() - (T::one() - lambda) * w)
             };
             for (r, (row, &y)) in prepared
                 .rows

@@ -240,7 +240,7 @@ fn learn_afresh<M: StateModel<f32>>(model: &mut M, k: u64) -> HoverState<f32> {
         .prepare_in(&from, &BodyFrame::of(&from.attitude), &before, &to)
         .unwrap();
     let mut innovation = HoverState::default();
-    model.apply(&prepared, &mut Default::default(), &mut innovation);
+    model.apply(&prepared, &mut innovation);
     innovation
 }
 

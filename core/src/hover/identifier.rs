@@ -4,7 +4,6 @@ use crate::error::Error;
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, Premise, SharedStrengths, StateModel};
 use crate::hover::sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
-use crate::local::SquareRoots;
 use crate::rls::RlsView;
 use crate::rule_base::{same_sets, PremiseSets};
 use crate::scalar::Real;
@@ -377,12 +376,10 @@ where
             let r = self.yaw.prepare_in(&prev, frame, &b, sample)?;
             let p = self.roll.prepare_in(&prev, frame, &b, sample)?;
             let mut inn = HoverState::default();
-            // Models with the same strengths (see `Sharing`) have the same √ξ_i too.
-            let roots = &mut SquareRoots::new();
-            self.velocity.apply(&v, roots, &mut inn);
-            self.pitch.apply(&q, roots, &mut inn);
-            self.yaw.apply(&r, roots, &mut inn);
-            self.roll.apply(&p, roots, &mut inn);
+            self.velocity.apply(&v, &mut inn);
+            self.pitch.apply(&q, &mut inn);
+            self.yaw.apply(&r, &mut inn);
+            self.roll.apply(&p, &mut inn);
             innovation = Some(inn);
             before = prev.state();
         }

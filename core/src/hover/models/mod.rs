@@ -33,15 +33,8 @@ pub trait StateModel<T: Real> {
     /// Checks and computes the update from sample k (`from`) to sample k+1 (`to`).
     fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error>;
     /// Learns from a prepared update; writes the prior innovations of this model's outputs
-    /// into `innovation` (the other entries are left alone). `roots`: the square roots of
-    /// firing strengths the models learning from the same sample computed, shared between
-    /// them (see [`SquareRoots`](crate::local::SquareRoots)).
-    fn apply(
-        &mut self,
-        prepared: &Self::Prepared,
-        roots: &mut crate::local::SquareRoots<T>,
-        innovation: &mut HoverState<T>,
-    );
+    /// into `innovation` (the other entries are left alone).
+    fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>);
     /// Writes this model's one-step prediction of sample k+1 from sample k into `next`.
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error>;
     /// Back to θ(0) = 0, P(0) = αI.

@@ -3,7 +3,6 @@
 use crate::error::Error;
 use crate::hover::sample::{HoverSample, HoverState};
 use crate::learning::{Learning, TsEstimator};
-use crate::local::SquareRoots;
 use crate::rls::RlsConfig;
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
@@ -324,13 +323,8 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         Ok(())
     }
 
-    fn apply(
-        &mut self,
-        prepared: &Self::Prepared,
-        roots: &mut SquareRoots<T>,
-        innovation: &mut HoverState<T>,
-    ) {
-        self.ts.apply(prepared, roots);
+    fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
+        self.ts.apply(prepared);
         if let Some(slot) = innovation.rates.get_mut(self.axis.index()) {
             let [e] = prepared.innovations;
             *slot = e;
