@@ -88,18 +88,19 @@ step; every change kept the predictions' hashes):
 | the U-D column loop bounded by N (unrolled instead of by 4 plus a remainder) | 26 600 | 27 720 |
 | \`combine\` without a test per term; \`apply\` clears only the kept flag | 24 840 | 25 920 |
 | the rate models take the velocity model's firing strengths (\`SharedStrengths\`; which models share is found once, not at every sample) | 23 600 | 24 680 |
-| √ξ_i once per rule and sample for all four models (\`SquareRoots\`); \`block_products\` inlined | 23 200 | 24 240 |
+| \`block_products\` inlined into the prediction again (as it was inside \`strengths_and_blocks\`) | 23 520 | 24 600 |
 | now | see table | see table |
 
 The forward-speed firing strengths are computed once per sample (by the velocity model; the
-rate models, on the same premise and sets, take them) and each √ξ_i once per rule and sample:
-\`strengths\`, \`expf\` and \`sqrtf\` went from about 2 140 to about 530 instructions per step.
-Not done: what is left besides the U-D update and \`sincosf\` is spread over the four models'
-own work (their terms and premise, \`scaled_terms\`' divisions by the nominal scales at both
-prediction and update, the kept-premise checks, the block products: \`prepare_in\`,
-\`predict_keep\`, \`apply\` together about 4 200 instructions per step), most of it each model's own
-(only the premise, a few products, is the same in all four); \`sqrtf\` is libm's software square root (the M4F's \`vsqrt\`, the
-same bits, is reachable on stable Rust only through \`unsafe\` asm).
+rate models, on the same premise and sets, take them): \`strengths\` and \`expf\` went from
+about 1 570 to about 390 instructions per step. Not done: each model still computes the same
+√ξ_i of local learning (\`sqrtf\`, about 560 instructions per step; computing them once would
+save three quarters, but needs a per-step value in the models' \`apply\`), and \`sqrtf\` is
+libm's software square root (the M4F's \`vsqrt\`, the same bits, is reachable on stable Rust
+only through \`unsafe\` asm). The rest, besides the U-D update and \`sincosf\`, is spread over
+the four models' own work (their terms, \`scaled_terms\`' divisions by the nominal scales at
+both prediction and update, the kept-premise checks, the block products: \`prepare_in\`,
+\`predict_keep\`, \`apply\` together about 4 100 instructions per step).
 
 ## Flash and RAM (\`arm-none-eabi-size\`)
 
