@@ -262,19 +262,10 @@ fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
     let config = HoverConfig::default();
     let side = rotorid::hover::table3::three_sets((-5.0, 2.5), (0.0, 2.5), (5.0, 2.5));
     let rules = RuleBase::new([flight_sets(), side, PremiseSets::new()]).unwrap();
-    let yaw = LocalRateModel::<f32, 9, 7, 28>::with_scaling(
-        RateAxis::Yaw,
-        rules,
-        RateStructure::Flight,
-        Premise::HeadingVelocity,
-        config.rls,
-        RateStructure::Flight.helicopter_scaling(),
-    )
-    .unwrap();
     let id = HoverIdentifier::new(
         flight.velocity_model().clone(),
         flight.pitch_model().clone(),
-        yaw,
+        flight_yaw::<9>(rules),
         flight.roll_model().clone(),
         config,
     )
@@ -290,20 +281,24 @@ fn a_model_replaced_through_its_mut_access_is_not_given_the_old_sets_strengths()
     for k in 0..5 {
         id.step(&sample(k)).unwrap();
     }
-    let config = HoverConfig::default();
     let moved = rotorid::hover::table3::three_sets((0.0, 2.5), (6.0, 3.0), (10.0, 2.5));
     let rules = RuleBase::new([moved, PremiseSets::new(), PremiseSets::new()]).unwrap();
-    *id.yaw_model_mut() = LocalRateModel::<f32, 3, 7, 28>::with_scaling(
+    *id.yaw_model_mut() = flight_yaw::<3>(rules);
+    id.end_chain();
+    matches_models_learning_afresh(id);
+}
+
+/// A yaw model with the flight identifier's terms and settings over other rules.
+fn flight_yaw<const R: usize>(rules: RuleBase<f32, 3, R>) -> LocalRateModel<f32, R, 7, 28> {
+    LocalRateModel::with_scaling(
         RateAxis::Yaw,
         rules,
         RateStructure::Flight,
         Premise::HeadingVelocity,
-        config.rls,
+        HoverConfig::default().rls,
         RateStructure::Flight.helicopter_scaling(),
     )
-    .unwrap();
-    id.end_chain();
-    matches_models_learning_afresh(id);
+    .unwrap()
 }
 
 /// `id` learns each sample with the ξ and block products kept from its prediction at the

@@ -8,6 +8,7 @@
 
 use crate::error::{ConfigError, Error};
 use crate::hover::sample::{HoverSample, HoverState};
+use crate::learning::TsEstimator;
 use crate::rls::RlsConfig;
 use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
@@ -197,6 +198,19 @@ impl Premise {
             }
         }
     }
+}
+
+/// The strengths the estimator `ts` of a model on `premise` kept from its last prediction,
+/// offered to the other models ([`StateModel::kept_strengths`]).
+fn kept_by<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>(
+    premise: Premise,
+    ts: &E,
+) -> Option<SharedStrengths<'_, T>> {
+    Some(SharedStrengths::new(
+        premise,
+        ts.rules(),
+        ts.kept_strengths()?,
+    ))
 }
 
 pub(crate) fn check_terms(needed: usize, found: usize) -> Result<(), Error> {

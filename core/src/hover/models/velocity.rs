@@ -8,7 +8,7 @@ use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
 
-use super::{check_terms, BodyFrame, Premise, SharedStrengths, StateModel};
+use super::{check_terms, kept_by, BodyFrame, Premise, SharedStrengths, StateModel};
 
 /// Consequent structure of the translational model.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -344,12 +344,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     }
 
     fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
-        let strengths = self.ts.kept_strengths()?;
-        Some(SharedStrengths::new(
-            self.premise,
-            self.ts.rules(),
-            strengths,
-        ))
+        kept_by(self.premise, &self.ts)
     }
 }
 
