@@ -27,6 +27,18 @@ pub(crate) fn mark(ok: bool) -> &'static str {
     }
 }
 
+/// Each distinct key once, in the order first seen (the tables of a report keep the order of
+/// its rows).
+pub(crate) fn first_seen<'a>(keys: impl Iterator<Item = &'a str>) -> Vec<&'a str> {
+    let mut seen: Vec<&str> = Vec::new();
+    for k in keys {
+        if !seen.contains(&k) {
+            seen.push(k);
+        }
+    }
+    seen
+}
+
 /// The largest ratio `a[i] / b[i]` over the six states, with the state's label.
 pub(crate) fn worst_ratio(a: &[f64; 6], b: &[f64; 6]) -> (f64, &'static str) {
     const LABELS: [&str; 6] = ["v_x", "v_y", "v_z", "q", "r", "p"];
@@ -131,14 +143,8 @@ fn speed_stability(params: &[ModelParameters], period_s: f64) -> Option<f64> {
 /// [`BASELINE`] per state, its worst one-step ratio, the drag both learnt ([`drag`]) and the
 /// flight default's hover speed stability ([`speed_stability`]).
 pub fn conditions_markdown(conditions: &[Condition]) -> String {
-    let mut groups: Vec<&str> = Vec::new();
-    for c in conditions {
-        if !groups.contains(&c.group.as_str()) {
-            groups.push(&c.group);
-        }
-    }
     let mut s = String::new();
-    for group in groups {
+    for group in first_seen(conditions.iter().map(|c| c.group.as_str())) {
         s += &format!(
             "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s)) |\n\
              |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"

@@ -3,7 +3,9 @@
 //! pair, judged by issue 11's criteria ([`HOVER_TOLERANCE`], [`ENVELOPE_TARGET`]).
 
 use crate::experiments::VariantResult;
-use crate::flight_report::{mark, worst_ratio, BASELINE, ENVELOPE_TARGET, FLIGHT, HOVER_TOLERANCE};
+use crate::flight_report::{
+    first_seen, mark, worst_ratio, BASELINE, ENVELOPE_TARGET, FLIGHT, HOVER_TOLERANCE,
+};
 use crate::report::Metrics;
 
 /// One plant's runs (`rotorid robustness-report --run`).
@@ -79,14 +81,8 @@ fn row(r: &PlantRuns) -> Option<(String, Met)> {
 /// One table per family (in the order given), each followed by how many of its plants meet
 /// each criterion.
 pub fn robustness_markdown(runs: &[PlantRuns]) -> String {
-    let mut families: Vec<&str> = Vec::new();
-    for r in runs {
-        if !families.contains(&r.family.as_str()) {
-            families.push(&r.family);
-        }
-    }
     let mut s = String::new();
-    for family in families {
+    for family in first_seen(runs.iter().map(|r| r.family.as_str())) {
         s += &format!(
             "### {family}\n\n\
              | plant | hover free run, worst | hover one step, worst | envelope free run q, r, p | \

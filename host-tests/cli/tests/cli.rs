@@ -547,6 +547,16 @@ fn identification_duration_beyond_the_sweeps_is_an_error_not_a_silent_clamp() {
 
 /// `--plant` picks the airframe for every kind: the flybarless 600 starts at its own trim, and
 /// `--plant xcell60` is the default, bit for bit.
+/// The collective of a log's first sample (its second column).
+fn first_col(log: &str) -> f64 {
+    let row = log.lines().nth(1).expect("a sample");
+    row.split(',')
+        .nth(1)
+        .expect("u_col")
+        .parse()
+        .expect("number")
+}
+
 #[test]
 fn plant_option_flies_the_chosen_airframe() {
     let dir = tmpdir("plant");
@@ -563,14 +573,6 @@ fn plant_option_flies_the_chosen_airframe() {
         let o = run(cmd.arg("-o").arg(&out));
         assert!(o.status.success(), "{}", text(&o.stderr));
         std::fs::read_to_string(&out).expect("log")
-    };
-    let first_col = |log: &str| -> f64 {
-        let row = log.lines().nth(1).expect("a sample");
-        row.split(',')
-            .nth(1)
-            .expect("u_col")
-            .parse()
-            .expect("number")
     };
     let fbl =
         rotorid_sim::plant::trim_hover(&rotorid_sim::plant::Helicopter::flybarless_600(), 0.0)
@@ -663,14 +665,6 @@ fn plant_variation_flies_another_helicopter_reproducibly() {
         let o = run(cmd.arg("-o").arg(&out));
         assert!(o.status.success(), "{}", text(&o.stderr));
         std::fs::read_to_string(&out).expect("log")
-    };
-    let first_col = |log: &str| -> f64 {
-        let row = log.lines().nth(1).expect("a sample");
-        row.split(',')
-            .nth(1)
-            .expect("u_col")
-            .parse()
-            .expect("number")
     };
     for (plant, params) in [
         ("xcell60", Helicopter::default()),
