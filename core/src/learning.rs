@@ -4,7 +4,7 @@
 
 use crate::error::Error;
 use crate::local::{LocalState, LocalTsRls};
-use crate::rls::{RlsConfig, RlsState, RlsView};
+use crate::rls::{Compensation, RegressorNoise, RlsConfig, RlsState, RlsView};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling, TsRls};
@@ -39,6 +39,8 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     fn rules(&self) -> &RuleBase<T, V, R>;
     /// The estimator settings.
     fn config(&self) -> &RlsConfig<T>;
+    /// The scales of the consequent terms and target.
+    fn scaling(&self) -> &Scaling<T, D>;
     /// `α_{i,s}` of rule i, term s, in physical units.
     fn physical_parameter(&self, rule: usize, term: usize) -> Option<T>;
     /// Predictions of M outputs that share the premise (target unit).
@@ -89,6 +91,11 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     /// Calls `f` with a view of each RLS estimator, in export order (one when learnt
     /// globally; one per rule, rule 0 first, when learnt locally).
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>));
+    /// Replaces each rule's θ by its estimate with the bias of a noisy regressor removed
+    /// ([`Rls::bias_compensated`](crate::Rls::bias_compensated)), keeping the covariances:
+    /// the parameters for a simulation. Global learning compensates a one-rule model only
+    /// (with more rules its regressor `Δ ⊗ ξ` mixes the rules' terms).
+    fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation;
 }
 
 impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, const NP: usize>
@@ -109,6 +116,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     }
     fn config(&self) -> &RlsConfig<T> {
         self.rls().config()
+    }
+    fn scaling(&self) -> &Scaling<T, D> {
+        self.scaling()
     }
     fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
         self.physical_parameter(rule, term)
@@ -149,6 +159,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
         f(self.rls().view())
     }
+    fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
+        self.compensate(noise)
+    }
 }
 
 impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
@@ -169,6 +182,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     }
     fn config(&self) -> &RlsConfig<T> {
         self.config()
+    }
+    fn scaling(&self) -> &Scaling<T, D> {
+        self.scaling()
     }
     fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
         self.physical_parameter(rule, term)
@@ -221,5 +237,8 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         for rule in (0..R).filter_map(|i| self.rule(i)) {
             f(rule.view())
         }
+    }
+    fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
+        self.compensate(noise)
     }
 }

@@ -39,12 +39,14 @@ pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
-    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier, RateNoise,
 };
 pub use learning::{Learning, TsEstimator};
 pub use local::LocalTsRls;
 pub use membership::MembershipFunction;
-pub use rls::{Algorithm, Rls, RlsConfig, RlsState, RlsView};
+pub use rls::{
+    Algorithm, Compensation, NotCompensated, RegressorNoise, Rls, RlsConfig, RlsState, RlsView,
+};
 pub use rule_base::RuleBase;
 pub use scalar::Real;
 pub use ts::{Scaling, TsRls};

@@ -28,7 +28,9 @@
 //! `R·D + R·D(R·D+1)/2`.
 
 use crate::error::{ConfigError, Error, Quantity};
-use crate::rls::{AllParameters, Rls, RlsConfig, RlsState, TARGET_LIMIT};
+use crate::rls::{
+    AllParameters, Compensation, RegressorNoise, Rls, RlsConfig, RlsState, TARGET_LIMIT,
+};
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
 use crate::ts::{combine, prepare_rows, scaled_terms, Prepared, Scaling};
@@ -302,6 +304,18 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
                 rls.update_row(&phi, AllParameters(D), e * root, l);
             }
         }
+    }
+
+    /// Replaces each rule's θ_i by its estimate with the bias of `noise` removed (see
+    /// [`Rls::bias_compensated`]); the covariances are kept. A rule that cannot be
+    /// compensated keeps its θ_i, and the result says so.
+    pub fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
+        self.kept.valid = false;
+        let mut outcome = Compensation::default();
+        for rls in &mut self.local {
+            outcome.record(rls.compensate(noise));
+        }
+        outcome
     }
 
     /// Back to θ_i = 0, P_i = αI for every rule.

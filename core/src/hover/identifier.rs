@@ -1,10 +1,10 @@
 //! The hover identifier: one translational and three angular models fed one sample at a time.
 
-use crate::error::Error;
+use crate::error::{Error, Quantity};
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, Premise, SharedStrengths, StateModel};
 use crate::hover::sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
-use crate::rls::RlsView;
+use crate::rls::{Compensation, RlsView};
 use crate::rule_base::{same_sets, PremiseSets};
 use crate::scalar::Real;
 
@@ -484,6 +484,38 @@ where
         self.chain = Chain::new(sample, frame, &sample.state());
         self.timing.chained = true;
         Ok(prediction)
+    }
+
+    /// Replaces the rate models' parameters by their estimates with the bias of the gyros'
+    /// white noise removed (bias-compensated least squares, see
+    /// [`RateModel::gyro_noise`](super::RateModel::gyro_noise) and
+    /// [`Rls::bias_compensated`](crate::Rls::bias_compensated)): the model to *simulate*
+    /// (free-run) with. The least-squares parameters the identifier learns are the better
+    /// one-step predictor from noisy measurements, so compensate a copy and keep learning on
+    /// the original (learning on from compensated parameters returns to least squares).
+    ///
+    /// `gyro_noise`: standard deviation σ of each rate's white noise `[q r p]` (deg/s), from
+    /// the gyro's data sheet or a flight ([`RateNoise`](super::RateNoise)); 0 compensates
+    /// nothing. Only [`RateStructure::Flight`](super::RateStructure::Flight) models learnt in
+    /// the U-D form are compensated; a rule whose rate hardly moved (the noise is half its
+    /// information or more) or that saw fewer samples than it has parameters keeps its
+    /// parameters, and the result counts it. On `Err` (σ not finite, negative or above
+    /// [`SampleLimits::RATE`]) nothing changed.
+    pub fn compensate(&mut self, gyro_noise: &[T; 3]) -> Result<Compensation, Error> {
+        for &sigma in gyro_noise {
+            if !sigma.is_finite() {
+                return Err(Error::NonFinite(Quantity::Config));
+            }
+            if !(sigma >= T::zero() && sigma <= T::lit(SampleLimits::RATE)) {
+                return Err(Error::OutOfRange(Quantity::Config));
+            }
+        }
+        Ok(self
+            .velocity
+            .compensate(gyro_noise)
+            .and(self.pitch.compensate(gyro_noise))
+            .and(self.yaw.compensate(gyro_noise))
+            .and(self.roll.compensate(gyro_noise)))
     }
 
     /// Forgets everything learnt: θ = 0, P = αI, no previous sample.

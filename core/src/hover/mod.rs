@@ -18,6 +18,7 @@
 mod config;
 mod identifier;
 mod models;
+mod noise;
 mod sample;
 pub mod table3;
 mod variants;
@@ -28,6 +29,7 @@ pub use models::{
     right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure,
     SharedStrengths, StateModel, VelocityModel, VelocityStructure,
 };
+pub use noise::RateNoise;
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,

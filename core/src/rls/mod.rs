@@ -53,9 +53,11 @@
 use crate::error::{ConfigError, Error, Quantity};
 use crate::scalar::{within, Real};
 
+mod errors_in_variables;
 mod update;
 mod view;
 
+pub use errors_in_variables::{Compensation, NotCompensated, RegressorNoise};
 use update::RlsSlices;
 pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 pub use view::RlsView;

@@ -28,8 +28,8 @@
 
 use crate::error::{ConfigError, Error, Quantity};
 use crate::rls::{
-    col, AllParameters, Rls, RlsConfig, RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT,
-    TARGET_LIMIT,
+    col, AllParameters, Compensation, NotCompensated, RegressorNoise, Rls, RlsConfig, RlsState,
+    Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
@@ -139,6 +139,32 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     /// The estimator (scaled parameters θ̃, covariance diagnostics).
     pub fn rls(&self) -> &Rls<T, N, NP> {
         &self.rls
+    }
+
+    /// With one rule (`N = D`), replaces θ by its estimate with the bias of `noise` removed
+    /// (see [`Rls::bias_compensated`]); P is kept. With more rules nothing is compensated
+    /// (the regressor `Δ ⊗ ξ` mixes the rules' terms) and the result says so.
+    pub fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
+        let mut outcome = Compensation::default();
+        if R != 1 || N != D {
+            for _ in 0..R {
+                outcome.record(Err(NotCompensated::Unsupported));
+            }
+            return outcome;
+        }
+        let mut with_target = [T::zero(); N];
+        for (w, &s) in with_target.iter_mut().zip(noise.with_target.iter()) {
+            *w = s;
+        }
+        let noise = RegressorNoise {
+            noisy: noise.noisy,
+            variance: noise.variance,
+            with_target,
+            unit: noise.unit,
+            unit_value: noise.unit_value,
+        };
+        outcome.record(self.rls.compensate(&noise));
+        outcome
     }
 
     /// The scales.

@@ -133,6 +133,12 @@ enum Command {
         /// Warm start the first variant from a params-*.json written by an earlier run.
         #[arg(long)]
         warm_start: Option<PathBuf>,
+        /// White noise σ of the gyro rates (deg/s) that the free run's parameters are
+        /// compensated for (`HoverIdentifier::compensate`): `auto` estimates it from the
+        /// training logs (`RateNoise`), `none` compensates nothing, one value is every rate's,
+        /// three (`Q,R,P`) are each rate's.
+        #[arg(long, default_value = "auto", value_parser = parse_gyro_noise)]
+        gyro_noise: GyroNoise,
     },
     /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
     /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
@@ -347,6 +353,7 @@ fn main() -> ExitCode {
             plot_span,
             no_plots,
             warm_start,
+            gyro_noise,
         } => run_identify(
             &train,
             &verify,
@@ -355,6 +362,7 @@ fn main() -> ExitCode {
             plot_span,
             no_plots,
             warm_start.as_deref(),
+            gyro_noise,
         ),
         Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report(args) => run_report(&args),
@@ -508,6 +516,42 @@ fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), CliError
     write_text(path, text + "\n")
 }
 
+/// `--gyro-noise`: what the free run's parameters are compensated for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum GyroNoise {
+    /// Estimated from the training logs.
+    Auto,
+    /// Not compensated.
+    None,
+    /// σ of `[q r p]` (deg/s).
+    Given([f32; 3]),
+}
+
+fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
+    match text {
+        "auto" => return Ok(GyroNoise::Auto),
+        "none" => return Ok(GyroNoise::None),
+        _ => {}
+    }
+    let values = text
+        .split(',')
+        .map(|v| match v.trim().parse::<f32>() {
+            Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+            _ => Err(format!(
+                "`{v}` is not a noise σ (deg/s, finite, ≥ 0); expected auto, none, SIGMA or Q,R,P"
+            )),
+        })
+        .collect::<Result<Vec<f32>, String>>()?;
+    match values[..] {
+        [x] => Ok(GyroNoise::Given([x; 3])),
+        [q, r, p] => Ok(GyroNoise::Given([q, r, p])),
+        _ => Err(format!(
+            "`{text}`: one value or three (Q,R,P) expected, or auto, none"
+        )),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn run_identify(
     train: &[PathBuf],
     verify: &Path,
@@ -516,6 +560,7 @@ fn run_identify(
     plot_span: Option<f64>,
     no_plots: bool,
     warm_start: Option<&Path>,
+    gyro_noise: GyroNoise,
 ) -> Result<(), CliError> {
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(CliError::Window(window));
@@ -537,6 +582,16 @@ fn run_identify(
         source,
     })?;
 
+    let gyro_noise = match gyro_noise {
+        GyroNoise::Auto => experiments::gyro_noise_of(&training),
+        GyroNoise::None => None,
+        GyroNoise::Given(sigma) => Some(sigma),
+    };
+    if let Some([q, r, p]) = gyro_noise {
+        eprintln!(
+            "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
+        );
+    }
     let variants = experiments::variants();
     let n_train: usize = training.iter().map(Vec::len).sum();
     let total = (n_train + verification.len()) * variants.len();
@@ -556,6 +611,7 @@ fn run_identify(
             &verification,
             window,
             warm,
+            gyro_noise,
             &mut tick,
         )?);
     }
@@ -599,6 +655,7 @@ fn run_identify(
         verification_file: verify.display().to_string(),
         verification_samples: verification.len(),
         window_s: window,
+        gyro_noise_deg_s: gyro_noise,
         states: report::state_labels(),
         variants: results,
         table4,

@@ -156,6 +156,60 @@ fn end_to_end_on_a_short_flight() {
         metrics["variants"][1]["one_step"]
     );
 
+    // The free runs' parameters are compensated for the gyro noise estimated from the
+    // training log (`--gyro-noise auto`, the default); `none` free-runs the least-squares
+    // parameters, which is what the compensated run reports beside its own. One step is the
+    // least-squares parameters' either way.
+    let sigma = metrics["gyro_noise_deg_s"].as_array().expect("gyro noise");
+    assert_eq!(sigma.len(), 3);
+    assert!(
+        sigma
+            .iter()
+            .all(|s| s.as_f64().is_some_and(|s| s > 0.0 && s < 5.0)),
+        "{sigma:?}"
+    );
+    let flight = variants
+        .iter()
+        .find(|v| v["name"] == "flight")
+        .expect("flight");
+    let [compensated, refused] =
+        [0, 1].map(|i| flight["compensated_rules"][i].as_u64().expect("count"));
+    assert_eq!(compensated + refused, 9, "three rate models of three rules");
+    assert!(compensated > 0, "{flight}");
+    let out_none = dir.join("out-none");
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--gyro-noise", "none", "--train"])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out_none)
+        .args(["--window", "1"]));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m_none: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_none.join("metrics.json")).expect("metrics"),
+    )
+    .expect("json");
+    assert!(m_none["gyro_noise_deg_s"].is_null());
+    let flight_none = &m_none["variants"][names.iter().position(|n| *n == "flight").unwrap()];
+    assert_eq!(flight_none["free_run"], flight["free_run_least_squares"]);
+    assert_ne!(flight_none["free_run"], flight["free_run"]);
+    assert_eq!(flight_none["one_step"], flight["one_step"]);
+    assert!(flight_none.get("free_run_least_squares").is_none());
+    for bad in ["1,2", "-0.3", "NaN", "loud"] {
+        let o = run(bin()
+            .args(["identify", &format!("--gyro-noise={bad}"), "--train"])
+            .arg(&train)
+            .arg("--verify")
+            .arg(&verify));
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(
+            text(&o.stderr).contains("--gyro-noise"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+
     // A wrong-shaped warm start is an error, not a panic.
     let o = run(bin()
         .args(["identify", "--no-plots", "--train"])

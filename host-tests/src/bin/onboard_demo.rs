@@ -309,6 +309,9 @@ fn run() -> Result<(), DemoError> {
             &ver,
             FREE_RUN_S,
             None,
+            // The onboard identifiers free-run with the parameters they learnt (the link has
+            // no request to compensate them for the gyro noise yet): the host does the same.
+            None,
             &mut || {},
         )?);
     }

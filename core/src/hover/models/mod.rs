@@ -9,7 +9,7 @@
 use crate::error::{ConfigError, Error};
 use crate::hover::sample::{HoverSample, HoverState};
 use crate::learning::TsEstimator;
-use crate::rls::RlsConfig;
+use crate::rls::{Compensation, RlsConfig};
 use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
 
@@ -109,6 +109,15 @@ pub trait StateModel<T: Real> {
     /// the other models, if the estimator kept them (and has not learnt since).
     fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
         None
+    }
+
+    /// Replaces the parameters by their estimates with the gyro noise's bias removed, for a
+    /// model whose terms the noise biases (see [`RateModel::compensate`]); `gyro_noise`: the
+    /// standard deviation of the white noise of each rate `[q r p]` (deg/s, finite, ≥ 0,
+    /// checked by the caller). Other models have nothing to compensate.
+    fn compensate(&mut self, gyro_noise: &[T; 3]) -> Compensation {
+        let _ = gyro_noise;
+        Compensation::default()
     }
 }
 

@@ -3,7 +3,7 @@
 use crate::error::Error;
 use crate::hover::sample::{HoverSample, HoverState};
 use crate::learning::{Learning, TsEstimator};
-use crate::rls::RlsConfig;
+use crate::rls::{Compensation, RegressorNoise, RlsConfig};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
@@ -249,6 +249,46 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
         }
     }
 
+    /// The white noise of the model's own gyro rate (standard deviation σ, deg/s) as the
+    /// estimator sees it, in its scaled units, for [`RateStructure::Flight`] (`None` for the
+    /// others):
+    ///
+    /// * the damping term's regressor ω(k) carries the noise n(k) (variance `σ²/S_δ²`);
+    /// * the target `ω(k+1) − ω(k)` carries `−n(k)`, which correlates with the damping term's
+    ///   noise (`−σ²/(S_δ S_y)`) and with the second-order term's `n(k) − n(k−1)`
+    ///   (`−σ²/(S_η S_y)`);
+    /// * the affine term (always 1) counts the samples.
+    ///
+    /// The second-order term's own noise variance is left out: in hover it is 60–90 % of that
+    /// term's information (its signal is the small increment of a rate at 50 Hz), and
+    /// removing it would divide by the remaining 10–40 %, amplifying the estimate's
+    /// variance. The [`RateStructure::Extended`] structure is not compensated: without the
+    /// second-order term, the bias partly stands in for the rotor's lag, and its free runs
+    /// got worse compensated (docs/results.md).
+    pub fn gyro_noise(&self, sigma: T) -> Option<RegressorNoise<T, D>> {
+        const DAMPING: usize = 2;
+        const AFFINE: usize = 4;
+        const SECOND_ORDER: usize = 6;
+        if self.structure != RateStructure::Flight {
+            return None;
+        }
+        let scaling = self.ts.scaling();
+        let scale = |j: usize| scaling.terms.get(j).copied();
+        let (s_damping, s_affine, s_second) =
+            (scale(DAMPING)?, scale(AFFINE)?, scale(SECOND_ORDER)?);
+        let variance = sigma * sigma;
+        let mut with_target = [T::zero(); D];
+        *with_target.get_mut(DAMPING)? = -variance / (s_damping * scaling.target);
+        *with_target.get_mut(SECOND_ORDER)? = -variance / (s_second * scaling.target);
+        Some(RegressorNoise {
+            noisy: DAMPING,
+            variance: variance / (s_damping * s_damping),
+            with_target,
+            unit: AFFINE,
+            unit_value: T::one() / s_affine,
+        })
+    }
+
     fn rate(&self, s: &HoverSample<T>) -> T {
         s.rates
             .get(self.axis.index())
@@ -333,6 +373,15 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
 
     fn predict(&self, from: &HoverSample<T>, next: &mut HoverState<T>) -> Result<(), Error> {
         self.predict_in(from, &self.frame_for(from), &from.state(), next)
+    }
+
+    /// Compensates the rules for the noise of this axis's gyro ([`gyro_noise`](Self::gyro_noise)).
+    fn compensate(&mut self, gyro_noise: &[T; 3]) -> Compensation {
+        let sigma = gyro_noise.get(self.axis.index()).copied();
+        match sigma.and_then(|sigma| self.gyro_noise(sigma)) {
+            Some(noise) => self.ts.compensate(&noise),
+            None => Compensation::default(),
+        }
     }
 
     fn reset(&mut self) {

@@ -76,4 +76,13 @@ pub enum EvaluateError {
         #[source]
         source: ParametersError,
     },
+    /// The gyro noise was refused (not finite, negative or beyond the rate range).
+    #[error("{variant}: cannot compensate for the gyro noise")]
+    Compensate {
+        /// The variant's name.
+        variant: &'static str,
+        /// The core's reason.
+        #[source]
+        source: rotorid::Error,
+    },
 }

@@ -2,7 +2,7 @@
 //! free-run errors, convergence, timing.
 
 use rotorid::convergence::ConvergenceMonitor;
-use rotorid::hover::{HoverSample, HoverState};
+use rotorid::hover::{HoverSample, HoverState, RateNoise};
 use serde::{Deserialize, Serialize};
 
 use rotorid_sim::flights::SAMPLE_RATE_HZ;
@@ -157,6 +157,16 @@ pub struct VariantResult {
     /// `window_s`, restarted from the measured state at each window, with measured attitude
     /// and controls; mean absolute error over every predicted sample.
     pub free_run: [f64; 6],
+    /// The free run of the least-squares parameters the identifier learnt, when
+    /// [`free_run`](Self::free_run) is that of the parameters compensated for the gyro noise
+    /// (`None`: nothing was compensated, and `free_run` is this).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_run_least_squares: Option<[f64; 6]>,
+    /// The rules whose parameters were compensated for the gyro noise before the free run
+    /// ([`HoverIdentifier::compensate`](rotorid::HoverIdentifier::compensate)), and those left
+    /// as they were.
+    #[serde(default)]
+    pub compensated_rules: [u16; 2],
     /// Hold baseline of the free run: the window's initial state held for the whole window
     /// (scored over every window sample, whatever the model did).
     pub hold_free_run: [f64; 6],
@@ -246,16 +256,33 @@ pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize
     }
 }
 
+/// σ̂ of the white noise of each gyro rate `[q r p]` (deg/s) in the training logs
+/// ([`RateNoise`], each log a chain of its own); `None` for logs too short.
+pub fn gyro_noise_of(training: &[Vec<HoverSample<f32>>]) -> Option<[f32; 3]> {
+    let mut noise = RateNoise::<f32>::new();
+    for log in training {
+        noise.restart();
+        for s in log {
+            // A rate the core refuses does not count (the identifier refuses it too).
+            let _ = noise.push(&s.rates);
+        }
+    }
+    noise.std_dev()
+}
+
 /// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
 /// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run over
-/// windows of `window_s` seconds. `progress` is called once per training sample and once per
-/// verification sample.
+/// windows of `window_s` seconds. With `gyro_noise` (σ per rate, deg/s), the free run is that
+/// of the parameters compensated for the gyros' noise (the least-squares parameters' is kept
+/// beside it). `progress` is called once per training sample and once per verification
+/// sample.
 pub fn evaluate(
     variant: &Variant,
     training: &[Vec<HoverSample<f32>>],
     verification: &[HoverSample<f32>],
     window_s: f64,
     warm_start: Option<&[ModelParameters]>,
+    gyro_noise: Option<[f32; 3]>,
     progress: &mut dyn FnMut(),
 ) -> Result<VariantResult, EvaluateError> {
     let mut id = (variant.build)(training).map_err(|source| EvaluateError::Build {
@@ -305,7 +332,27 @@ pub fn evaluate(
     } else {
         1
     };
-    let free = free_run(id.as_ref(), verification, window);
+    let least_squares = free_run(id.as_ref(), verification, window);
+    let mut compensated_rules = [0; 2];
+    let (free, free_run_least_squares) = match gyro_noise {
+        Some(sigma) => {
+            let mut simulated = id.boxed_clone();
+            let c = simulated
+                .compensate(&sigma)
+                .map_err(|source| EvaluateError::Compensate {
+                    variant: variant.name,
+                    source,
+                })?;
+            compensated_rules = [c.compensated, c.refused];
+            if c.compensated > 0 {
+                let free = free_run(simulated.as_ref(), verification, window);
+                (free, Some(least_squares.error))
+            } else {
+                (least_squares, None)
+            }
+        }
+        None => (least_squares, None),
+    };
 
     Ok(VariantResult {
         name: variant.name.to_string(),
@@ -315,6 +362,8 @@ pub fn evaluate(
         one_step,
         one_step_adapting: stats.one_step,
         free_run: free.error,
+        free_run_least_squares,
+        compensated_rules,
         hold_free_run: free.hold,
         free_run_windows: free.windows,
         free_run_diverged: free.diverged,

@@ -9,7 +9,7 @@ use rotorid::hover::{
     HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
 };
 use rotorid::membership::MembershipFunction;
-use rotorid::rls::{Algorithm, RlsState};
+use rotorid::rls::{Algorithm, Compensation, RlsState};
 use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
@@ -43,6 +43,9 @@ pub trait Identifier {
     fn parameters(&self) -> Vec<ModelParameters>;
     /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
     fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), ParametersError>;
+    /// [`HoverIdentifier::compensate`]: the parameters for a simulation, compensated for the
+    /// gyros' white noise σ `[q r p]` (deg/s).
+    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error>;
 }
 
 /// Exported state of one model (one [`RlsState`]).
@@ -276,6 +279,10 @@ where
 
     fn boxed_clone(&self) -> Box<dyn Identifier> {
         Box::new(self.clone())
+    }
+
+    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error> {
+        HoverIdentifier::compensate(self, gyro_noise)
     }
 
     fn parameters(&self) -> Vec<ModelParameters> {

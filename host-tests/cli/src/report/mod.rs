@@ -53,6 +53,10 @@ pub struct Metrics {
     pub verification_samples: usize,
     /// Free-run window (s).
     pub window_s: f64,
+    /// The gyro noise σ `[q r p]` (deg/s) the free runs' parameters were compensated for
+    /// (`None`: not compensated).
+    #[serde(default)]
+    pub gyro_noise_deg_s: Option<[f32; 3]>,
     /// State names and units, in the order of every array.
     pub states: Vec<String>,
     /// Per variant.
