@@ -64,13 +64,15 @@ for plant in xcell60 $second; do
     if [ $kind = hover ]; then pair=("${hover[@]}"); t=ident; v=verify
     else pair=("${envelope[@]}"); t=envelope; v=envelope-verify; fi
     group="$title, $kind pair"
-    while IFS='|' read -r label train verify; do
+    while IFS='|' read -r label train verify extra; do
       out=conditions/$plant-$kind-$(echo "$label" | tr -c 'a-z0-9' '-')
-      "$bin" identify --train "$train" --verify "$verify" --out "$out" --no-plots >/dev/null
+      # shellcheck disable=SC2086 # $extra: identify's options, word-split on purpose
+      "$bin" identify --train "$train" --verify "$verify" --out "$out" --no-plots $extra >/dev/null
       conditions+=(--condition "$group|$label|$out/metrics.json")
-      if [ "$kind|$train" = "hover|${hover[0]}" ]; then as_flown=$out; fi
+      if [ "$kind|$train|$extra" = "hover|${hover[0]}|" ]; then as_flown=$out; fi
     done <<EOF
-as flown (noise and turbulence)|${pair[0]}|${pair[1]}
+as flown (noise and turbulence)|${pair[0]}|${pair[1]}|
+as flown, free run not compensated for the gyro noise|${pair[0]}|${pair[1]}|--gyro-noise none
 trained without sensor noise, verified as flown|$plant-$t-n0.csv|${pair[1]}
 no sensor noise (turbulence kept)|$plant-$t-n0.csv|$plant-$v-n0.csv
 still air, no sensor noise|$plant-$t-c.csv|$plant-$v-c.csv
@@ -95,13 +97,15 @@ for tag in as-flown n0 c; do
   "$bin" simulate --plant-variation 2 --kind verification --seed 2 --duration 300 "${f[@]}" \
     -o v2-verify-$tag.csv
 done
-while IFS='|' read -r label train verify; do
-  out=conditions/v2-$train-$verify
+while IFS='|' read -r label train verify extra; do
+  out=conditions/v2-$train-$verify-$(echo "$extra" | tr -c 'a-z0-9' '-')
+  # shellcheck disable=SC2086 # $extra: identify's options, word-split on purpose
   "$bin" identify --train v2-ident-$train.csv --verify v2-verify-$verify.csv --out "$out" \
-    --no-plots >/dev/null
+    --no-plots $extra >/dev/null
   conditions+=(--condition "$group|$label|$out/metrics.json")
 done <<EOF
-as flown (noise and turbulence)|as-flown|as-flown
+as flown (noise and turbulence)|as-flown|as-flown|
+as flown, free run not compensated for the gyro noise|as-flown|as-flown|--gyro-noise none
 trained without sensor noise, verified as flown|n0|as-flown
 no sensor noise (turbulence kept)|n0|n0
 still air, no sensor noise|c|c

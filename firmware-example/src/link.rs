@@ -10,8 +10,9 @@ use core::hint::black_box;
 use embedded_io::{Read, Write};
 use rotorid_link::{
     msg::{
-        Ack, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest, MemoryReport,
-        MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
+        Ack, CompensateMsg, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest,
+        MemoryReport, MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg, StatsReport,
+        SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
@@ -247,6 +248,16 @@ fn handle<U: Write, P: Platform, T: Write>(
                 Ok(()) => Reply::ack(out, seq, code),
                 Err(e) => {
                     defmt::error!("reset failed: {}", e);
+                    out.nack(seq, code, NackReason::Refused)
+                }
+            },
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::Compensate) => match CompensateMsg::read(frame.payload) {
+            Ok(m) => match engine.compensate(&m.gyro_noise) {
+                Ok(()) => Reply::ack(out, seq, code),
+                Err(e) => {
+                    defmt::warn!("compensate refused: {}", e);
                     out.nack(seq, code, NackReason::Refused)
                 }
             },

@@ -18,9 +18,9 @@ use rotorid::{
     PaperPlainIdentifier,
 };
 use rotorid_link::msg::{
-    self, Ack, DataChunk, Estimate, IdOutput, Ident, IdentPair, IdentRequest, MemoryReport,
-    MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm, SampleMode,
-    SampleMsg, SweepSample, SweepStart,
+    self, Ack, CompensateMsg, DataChunk, Estimate, IdOutput, Ident, IdentPair, IdentRequest,
+    MemoryReport, MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm,
+    SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Answer, SampleChain, Writer};
 
@@ -152,6 +152,22 @@ impl Mirror {
             fuzzy: to_output(f),
             plain: to_output(p),
         })
+    }
+
+    /// What the firmware does on `Compensate`: the active pair's rate models compensated for
+    /// the gyros' noise σ `[q r p]` (deg/s), in place.
+    pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), rotorid::Error> {
+        match self.pair {
+            IdentPair::Flight => {
+                self.flight.compensate(gyro_noise)?;
+                self.extended_plain.compensate(gyro_noise)?;
+            }
+            _ => {
+                self.fuzzy.compensate(gyro_noise)?;
+                self.plain.compensate(gyro_noise)?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -363,6 +379,17 @@ impl Onboard {
         self.mirror = Mirror::with_pair(form, pair).map_err(OnboardError::Core)?;
         self.streamed = 0;
         Ok(())
+    }
+
+    /// `Compensate` on both sides: the active pair's rate models compensated for the gyros'
+    /// noise σ `[q r p]` (deg/s), the parameters to free-run with.
+    pub fn compensate(&mut self, gyro_noise: [f32; 3]) -> Result<(), OnboardError> {
+        let p = payload(|w| CompensateMsg { gyro_noise }.write(w));
+        let f = self.link.request(MsgType::Compensate, &p, MsgType::Ack)?;
+        expect_ack(&f, MsgType::Compensate)?;
+        self.mirror
+            .compensate(&gyro_noise)
+            .map_err(OnboardError::Core)
     }
 
     /// Streams `samples` (each with its mode), compares each reply with the host, calls

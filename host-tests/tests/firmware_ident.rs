@@ -416,6 +416,19 @@ fn flight_pair_learns_predicts_and_free_runs_bit_for_bit() {
         .estimates
         .iter()
         .all(|e| e.fuzzy.error.is_none() && e.plain.error.is_none()));
+    // `Compensate`: a σ the core refuses is refused onboard (nothing changes, the streams
+    // below still match); an accepted one changes the flight identifier's free run, onboard
+    // as on the host, bit for bit (`stream` compares every reply with the mirror).
+    assert!(ob.compensate([f32::NAN, 0.3, 0.3]).is_err());
+    ob.compensate([0.3; 3]).expect("compensate");
+    let again = ob.stream(&msgs, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let free = |r: &host_tests::onboard::StreamResult| -> Vec<[u32; 6]> {
+        r.estimates[50..]
+            .iter()
+            .map(|e| e.fuzzy.prediction.map(f32::to_bits))
+            .collect()
+    };
+    assert_ne!(free(&again), free(&res));
     // Params and export are the paper pair's: refused while the flight pair answers.
     assert!(matches!(
         ob.params(Ident::Fuzzy),

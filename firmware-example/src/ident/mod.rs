@@ -24,6 +24,8 @@
 //! * Params, export and import are implemented for the paper pair; while the flight pair is
 //!   active they are refused (`Nack` `Refused`), see `docs/protocol.md`.
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
+//! * `Compensate` → `Ack`: the active pair's rate models compensated for the gyros' noise
+//!   (`HoverIdentifier::compensate`), the parameters to free-run with.
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
@@ -133,6 +135,31 @@ pub trait Reply {
     fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason);
 }
 
+/// [`Identification::compensate`] of one pair: both identifiers take the same σ, so once the
+/// first accepted it the second does too.
+fn compensate_both<A, B, C, D, E, F, G, H>(
+    fuzzy: &mut Result<HoverIdentifier<f32, A, B, C, D>, Error>,
+    plain: &mut Result<HoverIdentifier<f32, E, F, G, H>, Error>,
+    gyro_noise: &[f32; 3],
+) -> Result<(), Error>
+where
+    A: StateModel<f32>,
+    B: StateModel<f32>,
+    C: StateModel<f32>,
+    D: StateModel<f32>,
+    E: StateModel<f32>,
+    F: StateModel<f32>,
+    G: StateModel<f32>,
+    H: StateModel<f32>,
+{
+    let (Ok(f), Ok(p)) = (fuzzy, plain) else {
+        return Err(Error::Incompatible);
+    };
+    f.compensate(gyro_noise)?;
+    p.compensate(gyro_noise)?;
+    Ok(())
+}
+
 fn ticks32(t: u64) -> u32 {
     u32::try_from(t).unwrap_or(u32::MAX)
 }
@@ -238,6 +265,19 @@ impl Identification {
         }
         self.pair = pair;
         Ok(())
+    }
+
+    /// `Compensate`: both identifiers of the active pair compensate their rate models for
+    /// the gyros' white noise σ `[q r p]` (deg/s) in place. The first is checked before the
+    /// second is changed, so on `Err` (σ refused) nothing changed.
+    pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), Error> {
+        self.abort_fuzzy_import();
+        match self.pair {
+            IdentPair::Flight => {
+                compensate_both(&mut self.flight, &mut self.extended_plain, gyro_noise)
+            }
+            _ => compensate_both(&mut self.fuzzy, &mut self.plain, gyro_noise),
+        }
     }
 
     /// The pair answering `Sample`.

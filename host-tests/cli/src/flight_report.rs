@@ -100,6 +100,9 @@ pub struct Condition {
     pub metrics: Metrics,
     /// The run's params-flight.json.
     pub params: Vec<ModelParameters>,
+    /// The run's params-flight-compensated.json, if its free run was compensated for the
+    /// gyro noise.
+    pub compensated_params: Option<Vec<ModelParameters>>,
     /// The run's params-extended-plain.json.
     pub baseline_params: Vec<ModelParameters>,
 }
@@ -146,7 +149,7 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut s = String::new();
     for group in first_seen(conditions.iter().map(|c| c.group.as_str())) {
         s += &format!(
-            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s)) |\n\
+            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s); learnt → compensated) |\n\
              |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
         );
         for c in conditions.iter().filter(|c| c.group == group) {
@@ -172,8 +175,13 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
             };
             let flight = cell(&c.params, VelocityStructure::Flight);
             let base = cell(&c.baseline_params, VelocityStructure::Extended);
-            let m_u =
-                speed_stability(&c.params, 0.02).map_or_else(|| "–".into(), |m| format!("{m:.1}"));
+            let m_u = |params: &[ModelParameters]| {
+                speed_stability(params, 0.02).map_or_else(|| "–".into(), |m| format!("{m:.1}"))
+            };
+            let m_u = match &c.compensated_params {
+                Some(compensated) => format!("{} → {}", m_u(&c.params), m_u(compensated)),
+                None => m_u(&c.params),
+            };
             s += &format!(
                 "| {} | {} | {worst:.2} ({state}) | {flight} | {base} | {m_u} |\n",
                 c.label,

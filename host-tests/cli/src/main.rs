@@ -636,8 +636,11 @@ fn run_identify(
     print!("{}", report::format_variants(&results, window));
 
     for r in &results {
-        let path = out.join(format!("params-{}.json", r.name.replace(' ', "-")));
-        write_json(&path, &r.parameters)?;
+        let name = r.name.replace(' ', "-");
+        write_json(&out.join(format!("params-{name}.json")), &r.parameters)?;
+        if let Some(p) = &r.compensated_parameters {
+            write_json(&out.join(format!("params-{name}-compensated.json")), p)?;
+        }
     }
     // f32 against f64 for the extended structures (issue 5): same logs, same settings.
     let precision =
@@ -703,6 +706,10 @@ fn run_report(args: &ReportArgs) -> Result<(), CliError> {
                 label: label.clone(),
                 metrics: load(metrics)?,
                 params: read_json(&dir_of(metrics).join("params-flight.json"))?,
+                compensated_params: {
+                    let path = dir_of(metrics).join("params-flight-compensated.json");
+                    path.exists().then(|| read_json(&path)).transpose()?
+                },
                 baseline_params: read_json(&dir_of(metrics).join("params-extended-plain.json"))?,
             })
         })

@@ -21,7 +21,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rotorid::hover::HoverSample;
 use rotorid::HoverState;
 use rotorid_cli::error_chain::Chain;
-use rotorid_cli::experiments::{evaluate, format_table4, mean_abs_errors, variants, EvaluateError};
+use rotorid_cli::experiments::{
+    evaluate, format_table4, gyro_noise_of, mean_abs_errors, variants, EvaluateError,
+};
 use rotorid_link::msg::{Estimate, Ident, IdentPair, RlsForm, SampleMode, SampleMsg};
 use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
 use rotorid_sim::flights::{
@@ -284,6 +286,16 @@ fn run() -> Result<(), DemoError> {
     let mut ob = boot(IdentPair::Flight, learn.len() + one.len() + free.len())?;
     let learned = stream(&mut ob, &learn, "identification (learning)")?;
     let one_est = stream(&mut ob, &one, "verification, one step")?;
+    // The free run uses the parameters compensated for the gyros' noise, estimated from the
+    // identification flight as `rotorid identify --gyro-noise auto` does.
+    let gyro_noise = gyro_noise_of(std::slice::from_ref(&id));
+    if let Some(sigma) = gyro_noise {
+        println!(
+            "  compensating onboard for the gyro noise σ̂ = {:.3}, {:.3}, {:.3} deg/s (q, r, p; from the identification flight)",
+            sigma[0], sigma[1], sigma[2]
+        );
+        ob.compensate(sigma)?;
+    }
     let free_est = stream(&mut ob, &free, "verification, free run")?;
     let stats = ob.link.stats()?;
     let rejected = learned
@@ -309,9 +321,7 @@ fn run() -> Result<(), DemoError> {
             &ver,
             FREE_RUN_S,
             None,
-            // The onboard identifiers free-run with the parameters they learnt (the link has
-            // no request to compensate them for the gyro noise yet): the host does the same.
-            None,
+            gyro_noise,
             &mut || {},
         )?);
     }

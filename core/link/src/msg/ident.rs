@@ -210,6 +210,21 @@ fixed_payload! {
     }
 }
 
+fixed_payload! {
+    /// `Compensate` payload (12 B): the white noise σ of each gyro rate `[q r p]` (deg/s,
+    /// f32). The active pair's identifiers replace their rate models' parameters by those
+    /// compensated for it (`HoverIdentifier::compensate`): the parameters to free-run with.
+    /// Answered by `Ack`, or `Nack` (refused, nothing changed) for a σ that is not finite,
+    /// negative or above 2000. Learning continues from the compensated parameters; a `Reset`
+    /// starts afresh.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct CompensateMsg for [Compensate] {
+        /// σ of `[q r p]` (deg/s).
+        pub gyro_noise: [f32; 3],
+    }
+}
+
 /// `ParamsRequest` payload.
 pub type ParamsRequest = IdentRequest;
 /// `ExportRequest` payload.
@@ -339,5 +354,12 @@ mod tests {
             rejects_truncated_and_extended::<IdentRequest>(&b);
         }
         assert!(IdentRequest::read(&[2]).is_err());
+        let m = CompensateMsg {
+            gyro_noise: [0.3, 0.25, 1.5],
+        };
+        let b = roundtrip(&m);
+        assert_eq!(b.len(), CompensateMsg::LEN);
+        assert_eq!(CompensateMsg::read(&b), Ok(m));
+        rejects_truncated_and_extended::<CompensateMsg>(&b);
     }
 }

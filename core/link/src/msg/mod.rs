@@ -122,8 +122,8 @@ pub mod test_hooks;
 
 pub use errors::{read_error, write_error, ERROR_LEN, UNKNOWN_CODE};
 pub use ident::{
-    Estimate, ExportRequest, IdOutput, Ident, IdentPair, IdentRequest, ParamsRequest, ResetMsg,
-    RlsForm, SampleMode, SampleMsg,
+    CompensateMsg, Estimate, ExportRequest, IdOutput, Ident, IdentPair, IdentRequest,
+    ParamsRequest, ResetMsg, RlsForm, SampleMode, SampleMsg,
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{
@@ -186,6 +186,9 @@ wire_enum! {
         MemoryRequest = 0x1A,
         /// FW→host, test hook: [`MemoryReport`], stack high-water mark and RAM layout.
         Memory = 0x1B,
+        /// Host→FW: [`CompensateMsg`], compensate the active pair's rate models for the
+        /// gyros' noise (the parameters to free-run with); answered by [`MsgType::Ack`].
+        Compensate = 0x1C,
     }
 }
 
@@ -301,6 +304,7 @@ mod tests {
             SampleMsg::TYPES,
             Estimate::TYPES,
             ResetMsg::TYPES,
+            CompensateMsg::TYPES,
             IdentRequest::TYPES,
             ParamsChunk::TYPES,
             DataChunk::TYPES,

@@ -259,12 +259,11 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
     ///   (`−σ²/(S_η S_y)`);
     /// * the affine term (always 1) counts the samples.
     ///
-    /// The second-order term's own noise variance is left out: in hover it is 60–90 % of that
-    /// term's information (its signal is the small increment of a rate at 50 Hz), and
-    /// removing it would divide by the remaining 10–40 %, amplifying the estimate's
-    /// variance. The [`RateStructure::Extended`] structure is not compensated: without the
-    /// second-order term, the bias partly stands in for the rotor's lag, and its free runs
-    /// got worse compensated (docs/results.md).
+    /// The second-order term's own noise variance is left out: in hover most of that term's
+    /// information is noise (its signal is the small increment of a rate at 50 Hz), and
+    /// removing it would divide by the small remainder, amplifying the estimate's variance. The [`RateStructure::Extended`] structure is not compensated: it is first
+    /// order in a rate that responds as a second-order system, and the noise's bias partly
+    /// stands in for the missing term.
     pub fn gyro_noise(&self, sigma: T) -> Option<RegressorNoise<T, D>> {
         const DAMPING: usize = 2;
         const AFFINE: usize = 4;

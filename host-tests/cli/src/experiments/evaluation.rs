@@ -191,6 +191,9 @@ pub struct VariantResult {
     /// Trained parameters (warm start).
     #[serde(skip)]
     pub parameters: Vec<ModelParameters>,
+    /// The parameters the free run used, when they were compensated for the gyro noise.
+    #[serde(skip)]
+    pub compensated_parameters: Option<Vec<ModelParameters>>,
 }
 
 /// Result of [`free_run`].
@@ -334,6 +337,7 @@ pub fn evaluate(
     };
     let least_squares = free_run(id.as_ref(), verification, window);
     let mut compensated_rules = [0; 2];
+    let mut compensated_parameters = None;
     let (free, free_run_least_squares) = match gyro_noise {
         Some(sigma) => {
             let mut simulated = id.boxed_clone();
@@ -346,6 +350,7 @@ pub fn evaluate(
             compensated_rules = [c.compensated, c.refused];
             if c.compensated > 0 {
                 let free = free_run(simulated.as_ref(), verification, window);
+                compensated_parameters = Some(simulated.parameters());
                 (free, Some(least_squares.error))
             } else {
                 (least_squares, None)
@@ -372,5 +377,6 @@ pub fn evaluate(
         one_step_predictions: preds,
         free_run_trace: free.trace,
         parameters: id.parameters(),
+        compensated_parameters,
     })
 }
