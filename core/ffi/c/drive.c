@@ -207,6 +207,28 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
     CHECK(rc == ROTORID_OK, "final export", rc);
     fnv_bytes(&ex, exported, n);
 
+    /* Compensated for the gyro noise (the parameters to simulate with): a NaN σ is refused,
+     * then σ = 0.3 deg/s on every rate; the prediction of the last sample shows the result. */
+    fnv_t sim = {0xcbf29ce484222325ull};
+    uint32_t compensated = 0;
+    {
+        rotorid_sample_t last;
+        rotorid_state_t p;
+        float nan;
+        uint32_t nan_bits = 0x7fc00000u;
+        memcpy(&nan, &nan_bits, 4);
+        const float bad[3] = {0.3f, nan, 0.3f};
+        const float sigma[3] = {0.3f, 0.3f, 0.3f};
+        rc = rotorid_compensate(id, bad, &compensated, &err);
+        CHECK(rc == ROTORID_E_NON_FINITE, "NaN gyro noise refused", rc);
+        rc = rotorid_compensate(id, sigma, &compensated, &err);
+        CHECK(rc == ROTORID_OK, "compensate", rc);
+        sample_at(FLIGHT_LEN - 1, &last);
+        rc = rotorid_predict(id, NULL, &last, &p, &err);
+        CHECK(rc == ROTORID_OK, "predict compensated", rc);
+        fnv_state(&sim, &p);
+    }
+
     /* Reset forgets everything: the export equals a fresh identifier's. */
     rc = rotorid_reset(id, &err);
     CHECK(rc == ROTORID_OK, "reset", rc);
@@ -224,13 +246,17 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
         CHECK(rc == ROTORID_OK && n == n2 && reset.h == fresh_hash.h, "reset equals fresh", rc);
     }
 
-    char line[96];
+    char line[160];
     char *at = put_str(line, "kind ");
     at = put_dec(at, kind);
     at = put_str(at, " steps ");
     at = put_hex(at, steps.h, 16);
     at = put_str(at, " export ");
     at = put_hex(at, ex.h, 16);
+    at = put_str(at, " compensated ");
+    at = put_dec(at, compensated);
+    at = put_str(at, " simulate ");
+    at = put_hex(at, sim.h, 16);
     at = put_str(at, "\n");
     *at = 0;
     emit(line);

@@ -715,6 +715,26 @@ int32_t rotorid_resume(rotorid_ident_t *h,
 int32_t rotorid_reset(rotorid_ident_t *h, rotorid_error_t *error);
 
 /**
+ * Replaces the rate models' parameters by those compensated for the gyros' white noise
+ * (`rotorid::HoverIdentifier::compensate`): the parameters to simulate (free-run) with, while
+ * the learnt ones are the better one-step predictor, so compensate a second identifier
+ * imported from this one's export and keep learning on this one. Only the flight kinds' rate
+ * models are compensated.
+ * `gyro_noise`: 3 floats, σ of q, r, p (deg/s; finite, ≥ 0, ≤ 2000; 0 compensates nothing).
+ * `compensated`: NULL (not wanted) or receives how many rules were compensated (a rule that
+ * saw fewer samples than it has parameters, or whose rate hardly moved, keeps its
+ * parameters). On error nothing changed.
+ *
+ * # Safety
+ * As `rotorid_step`; `gyro_noise` is NULL or points to 3 floats; `compensated` is NULL or
+ * valid.
+ */
+int32_t rotorid_compensate(rotorid_ident_t *h,
+                           const float *gyro_noise,
+                           uint32_t *compensated,
+                           rotorid_error_t *error);
+
+/**
  * The settings of an identifier (as given to `rotorid_init`) and its kind.
  *
  * # Safety

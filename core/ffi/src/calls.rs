@@ -105,6 +105,40 @@ pub unsafe extern "C" fn rotorid_reset(
     }
 }
 
+/// Replaces the rate models' parameters by those compensated for the gyros' white noise
+/// (`rotorid::HoverIdentifier::compensate`): the parameters to simulate (free-run) with, while
+/// the learnt ones are the better one-step predictor, so compensate a second identifier
+/// imported from this one's export and keep learning on this one. Only the flight kinds' rate
+/// models are compensated.
+/// `gyro_noise`: 3 floats, σ of q, r, p (deg/s; finite, ≥ 0, ≤ 2000; 0 compensates nothing).
+/// `compensated`: NULL (not wanted) or receives how many rules were compensated (a rule that
+/// saw fewer samples than it has parameters, or whose rate hardly moved, keeps its
+/// parameters). On error nothing changed.
+///
+/// # Safety
+/// As `rotorid_step`; `gyro_noise` is NULL or points to 3 floats; `compensated` is NULL or
+/// valid.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_compensate(
+    h: *mut rotorid_ident_t,
+    gyro_noise: *const f32,
+    compensated: *mut u32,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let sigma = get(gyro_noise.cast::<[f32; 3]>())?;
+            let outcome = ident_mut(h)?.compensate(&sigma)?;
+            if !compensated.is_null() {
+                put(compensated, u32::from(outcome.compensated))?;
+            }
+            Ok(())
+        })();
+        report(result, error)
+    }
+}
+
 /// The settings of an identifier (as given to `rotorid_init`) and its kind.
 ///
 /// # Safety

@@ -6,7 +6,7 @@ use core::mem::{align_of, size_of};
 use rotorid::hover::{flight_sets, table3, StateModel};
 use rotorid::membership::MembershipFunction;
 use rotorid::{
-    Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    Compensation, Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
@@ -83,6 +83,7 @@ pub(crate) trait Ident {
     fn config(&self) -> HoverConfig<f32>;
     fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
     fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
+    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
 }
 
 /// The export size of an identifier type.
@@ -131,6 +132,9 @@ where
     }
     fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error> {
         export::import(self, kind, bytes)
+    }
+    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
+        HoverIdentifier::compensate(self, gyro_noise)
     }
 }
 

@@ -205,9 +205,12 @@ where
     id.roll_model().export().write(&mut bytes);
     let mut export = Fnv(FNV_START);
     export.bytes(&bytes);
+    let mut simulate = Fnv(FNV_START);
+    let compensated = id.compensate(&[0.3; 3]).unwrap().compensated;
+    simulate.state(&id.predict(flight.last().unwrap()).unwrap());
     format!(
-        "kind {kind} steps {:016x} export {:016x}\n",
-        steps.0, export.0
+        "kind {kind} steps {:016x} export {:016x} compensated {compensated} simulate {:016x}\n",
+        steps.0, export.0, simulate.0
     )
 }
 

@@ -112,7 +112,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         Ok(())
     }
 
-    /// θ with the bias of `noise` removed (see the [module docs](self)); the estimator is not
+    /// θ with the bias of `noise` removed (see [`errors_in_variables`](super::errors_in_variables)); the estimator is not
     /// changed. With zero noise it is θ, bit for bit.
     pub fn bias_compensated(&self, noise: &RegressorNoise<T, N>) -> Result<[T; N], NotCompensated> {
         if self.config.algorithm != Algorithm::UdFactor || noise.noisy >= N || noise.unit >= N {

@@ -53,7 +53,7 @@
 use crate::error::{ConfigError, Error, Quantity};
 use crate::scalar::{within, Real};
 
-mod errors_in_variables;
+pub mod errors_in_variables;
 mod update;
 mod view;
 
