@@ -20,8 +20,9 @@
 //! `θ = θ_LS − N P s + N σ_j² θ_j P e_j`.
 //!
 //! * **N**, the estimator's (weighted, forgotten) number of samples, is read from the
-//!   information of a regressor that is always 1, the affine term c: `(P⁻¹)_cc = Σ w·1²`
-//!   (plus the prior's `1/α`, 10⁻⁶ by default, which is neglected). No counter is kept.
+//!   information of a regressor that is constant, the affine term c (value `c₀`):
+//!   `(P⁻¹)_cc = Σ w c₀²` (plus the prior's `1/α`, 10⁻⁶ by default, which is neglected). No
+//!   counter is kept.
 //! * **Guard.** `ρ = N σ_j² P_jj` is the noise's share of regressor j's information. When it
 //!   is ½ or more (the regressor moved no more than its noise), the correction would amplify
 //!   the estimate's variance more than it removes bias, and the estimate is refused
@@ -30,7 +31,8 @@
 //! * The U-D form only: the covariance form would need P inverted to read N
 //!   ([`NotCompensated::Unsupported`]).
 //!
-//! The estimator itself is not changed: [`Rls::bias_compensated`] returns parameters.
+//! [`Rls::bias_compensated`] returns the parameters and changes nothing; [`Rls::compensate`]
+//! writes them into θ (P is kept).
 
 use super::{col, Algorithm, Rls};
 use crate::scalar::Real;
