@@ -221,6 +221,7 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
         "* Hover, free run: worst ratio {w2:.3} ({l2}) {}\n",
         mark(w2 <= HOVER_TOLERANCE)
     );
+    s += &first_order_rates(hover, envelope, [&hf, &hb, &ef, &eb]);
     let r: Vec<f64> = (0..6).map(|i| ef.free_run[i] / eb.free_run[i]).collect();
     let rates_ok = r[3..].iter().all(|&x| x <= ENVELOPE_TARGET);
     let velocities = r[..3].iter().filter(|&&x| x <= ENVELOPE_TARGET).count();
@@ -239,6 +240,41 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
         mark(velocities >= 2)
     );
     s
+}
+
+/// The variant whose rate models learn without their second-order term.
+const FIRST_ORDER_RATES: &str = "flight first-order rates";
+
+/// A criteria line on [`FIRST_ORDER_RATES`]: its worst hover one-step ratio and its free-run
+/// ratios on the rates, beside the flight default's (empty without that variant).
+fn first_order_rates(
+    hover: &Metrics,
+    envelope: &Metrics,
+    [hf, hb, ef, eb]: [&VariantResult; 4],
+) -> String {
+    let find = |m: &Metrics| {
+        m.variants
+            .iter()
+            .find(|v| v.name == FIRST_ORDER_RATES)
+            .cloned()
+    };
+    let (Some(h1), Some(e1)) = (find(hover), find(envelope)) else {
+        return String::new();
+    };
+    let rates = |v: &VariantResult, b: &VariantResult| {
+        let r = |i: usize| v.free_run[i] / b.free_run[i];
+        format!("{:.2}, {:.2}, {:.2}", r(3), r(4), r(5))
+    };
+    let (w, l) = worst_ratio(&h1.one_step, &hb.one_step);
+    format!(
+        "* Without the rate models' second-order term (`{FIRST_ORDER_RATES}`): hover one step, \
+         worst ratio {w:.3} ({l}); free run on q, r, p {} in hover and {} on the envelope \
+         (the flight default: {} and {})\n",
+        rates(&h1, hb),
+        rates(&e1, eb),
+        rates(hf, hb),
+        rates(ef, eb),
+    )
 }
 
 /// Rate derivatives of the plant at the hover trim state flown at `forward` m/s (body x):

@@ -434,6 +434,11 @@ pub fn variants() -> Vec<Variant> {
             build: |_| Ok(Box::new(flight_with_inertial_drag()?)),
         },
         Variant {
+            name: "flight first-order rates",
+            description: "the flight default with the rate models' second-order term held at zero (each rule's η pinned by a zero prior variance): what that term buys in free run and costs at one step",
+            build: |_| Ok(Box::new(flight_with_first_order_rates()?)),
+        },
+        Variant {
             name: "flight yaw on side speed",
             description: "the flight default with its yaw model scheduled on forward and side speed (3 x 3 rules; side sets at -5, 0, 5 m/s, σ 2.5): whether the yaw trim in sideways flight is a matter of scheduling",
             build: |_| Ok(Box::new(flight_with_side_speed_yaw()?)),
@@ -472,6 +477,29 @@ fn flight_with_inertial_drag() -> Result<FlightIdentifier<f32>, rotorid::Error> 
         flight.roll_model().clone(),
         config,
     )
+}
+
+/// [`FlightIdentifier`] whose rate models learn without their second-order term `η Δω(k)`
+/// (index 6 of [`RateStructure::Flight`]'s terms): before training, each rule's prior variance
+/// of η is set to zero (the U-D factor's `D_6`; U is still the identity, so nothing else
+/// changes). A parameter with zero variance gets zero gain, so η stays exactly 0 and least
+/// squares fits the other six terms as if it were absent; its covariance with them stays zero,
+/// so the gyro-noise compensation leaves it at 0 too. Everything else is the flight default's.
+fn flight_with_first_order_rates() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    const SECOND_ORDER: usize = 6;
+    // Packed upper triangle, column by column: entry (i, k) at k(k + 1)/2 + i.
+    const DIAGONAL: usize = SECOND_ORDER * (SECOND_ORDER + 1) / 2 + SECOND_ORDER;
+    let mut flight = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
+    let mut snapshot = flight.export();
+    for model in [&mut snapshot.pitch, &mut snapshot.yaw, &mut snapshot.roll] {
+        for rule in model.iter_mut() {
+            if let Some(d) = rule.factor.get_mut(DIAGONAL) {
+                *d = 0.0;
+            }
+        }
+    }
+    flight.import(&snapshot)?;
+    Ok(flight)
 }
 
 /// [`FlightIdentifier`] with a 9-rule yaw model (see [`flight_with_side_speed_yaw`]).
@@ -534,6 +562,41 @@ pub fn forward_speed_sets(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The first-order variant's rate models learn every term but η, which stays exactly 0
+    /// with zero variance, while the flight default learns an η on the same flight.
+    #[test]
+    fn first_order_rates_hold_eta_at_zero_and_learn_the_rest() {
+        let log = rotorid_sim::flights::identification_flight_for(1, 20.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let mut pinned = flight_with_first_order_rates().unwrap();
+        let mut flight =
+            FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
+        for s in &samples {
+            pinned.step(s).unwrap();
+            flight.step(s).unwrap();
+        }
+        let (p, f) = (pinned.export(), flight.export());
+        let diagonal = 6 * 7 / 2 + 6;
+        for (pm, fm) in [(&p.pitch, &f.pitch), (&p.yaw, &f.yaw), (&p.roll, &f.roll)] {
+            // The hover rule fires on this flight: it learns.
+            let (hover, flight_hover) = (&pm[0], &fm[0]);
+            assert_eq!(hover.theta[6].to_bits(), 0.0f32.to_bits());
+            assert_eq!(hover.factor[diagonal].to_bits(), 0.0f32.to_bits());
+            assert!(hover.updates > 0);
+            assert!(
+                hover.theta[..6].iter().all(|&t| t != 0.0),
+                "{:?}",
+                hover.theta
+            );
+            assert_ne!(flight_hover.theta[6], 0.0);
+            for rule in pm {
+                assert_eq!(rule.theta[6].to_bits(), 0.0f32.to_bits());
+            }
+        }
+        // The velocity model is the flight default's, bit for bit.
+        assert_eq!(p.velocity, f.velocity);
+    }
 
     #[test]
     fn parameter_export_carries_the_premise_sets_and_reads_back() {
