@@ -243,7 +243,7 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
 }
 
 /// The variant whose rate models learn without their second-order term.
-const FIRST_ORDER_RATES: &str = "flight first-order rates";
+pub(crate) const FIRST_ORDER_RATES: &str = "flight first-order rates";
 
 /// A criteria line on [`FIRST_ORDER_RATES`]: its worst hover one-step ratio and its free-run
 /// ratios on the rates, beside the flight default's (empty without that variant).

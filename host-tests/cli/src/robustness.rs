@@ -4,7 +4,8 @@
 
 use crate::experiments::VariantResult;
 use crate::flight_report::{
-    first_seen, mark, worst_ratio, BASELINE, ENVELOPE_TARGET, FLIGHT, HOVER_TOLERANCE,
+    first_seen, mark, worst_ratio, BASELINE, ENVELOPE_TARGET, FIRST_ORDER_RATES, FLIGHT,
+    HOVER_TOLERANCE,
 };
 use crate::report::Metrics;
 
@@ -123,6 +124,73 @@ pub fn robustness_markdown(runs: &[PlantRuns]) -> String {
     s
 }
 
+/// One family's table of what the rate models' second-order term does on each plant: the
+/// flight default against [`FIRST_ORDER_RATES`] (the same without that term), both as ratios to
+/// extended plain's errors, and how many plants each meets the criteria on. Empty when no run
+/// has the variant.
+pub fn second_order_markdown(runs: &[PlantRuns]) -> String {
+    let find = |m: &Metrics, n: &str| m.variants.iter().find(|v| v.name == n).cloned();
+    let mut s = String::new();
+    for family in first_seen(runs.iter().map(|r| r.family.as_str())) {
+        let mut table = String::new();
+        // Plants meeting the hover one-step tolerance on q (with, without the term), and
+        // plants where the term makes every rate's free run better (hover, envelope).
+        let (mut n, mut one_with, mut one_without) = (0, 0, 0);
+        let (mut hover_better, mut envelope_better) = (0, 0);
+        for r in runs.iter().filter(|r| r.family == family) {
+            let (Some(hf), Some(hb), Some(h1), Some(ef), Some(eb), Some(e1)) = (
+                find(&r.hover, FLIGHT),
+                find(&r.hover, BASELINE),
+                find(&r.hover, FIRST_ORDER_RATES),
+                find(&r.envelope, FLIGHT),
+                find(&r.envelope, BASELINE),
+                find(&r.envelope, FIRST_ORDER_RATES),
+            ) else {
+                continue;
+            };
+            let q = |v: &VariantResult| v.one_step[3] / hb.one_step[3];
+            let rates =
+                |v: &VariantResult, b: &VariantResult| ratios(&v.free_run, &b.free_run, [3, 4, 5]);
+            let (hover, hover1) = (rates(&hf, &hb), rates(&h1, &hb));
+            let (envelope, envelope1) = (rates(&ef, &eb), rates(&e1, &eb));
+            let pairs = |a: [f64; 3], b: [f64; 3]| {
+                a.iter()
+                    .zip(&b)
+                    .map(|(x, y)| format!("{x:.2} / {y:.2}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            table += &format!(
+                "| {} | {:.3} / {:.3} | {} | {} |\n",
+                r.label,
+                q(&hf),
+                q(&h1),
+                pairs(hover, hover1),
+                pairs(envelope, envelope1),
+            );
+            n += 1;
+            one_with += usize::from(q(&hf) <= HOVER_TOLERANCE);
+            one_without += usize::from(q(&h1) <= HOVER_TOLERANCE);
+            let all_better = |a: [f64; 3], b: [f64; 3]| a.iter().zip(&b).all(|(x, y)| x < y);
+            hover_better += usize::from(all_better(hover, hover1));
+            envelope_better += usize::from(all_better(envelope, envelope1));
+        }
+        if n == 0 {
+            continue;
+        }
+        s += &format!(
+            "### {family}: with / without the second-order term\n\n\
+             | plant | hover one step, q | hover free run q, r, p | envelope free run q, r, p |\n\
+             |---|---:|---:|---:|\n{table}\n\
+             Of {n} plants: hover one step on q within {tol:.0} % with the term: {one_with}, \
+             without it: {one_without}; every rate's free run better with the term than without \
+             it, in hover: {hover_better}, on the envelope: {envelope_better}.\n\n",
+            tol = (HOVER_TOLERANCE - 1.0) * 100.0,
+        );
+    }
+    s
+}
+
 /// The whole of docs/robustness.md: what was flown and how to read it, then
 /// [`robustness_markdown`]. `how` is the command lines that made the runs.
 pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
@@ -152,9 +220,26 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          envelope pair a free run at most {env} of extended plain's on q, r and p each, and on \
          at least two of the three velocities. The last column counts the flight default's \
          free-run windows whose state left the core's sample limits (a diverging model).\n\n\
-         Made by:\n\n```\n{how}\n```\n\n{}",
+         Made by:\n\n```\n{how}\n```\n\n{}{}",
         robustness_markdown(runs),
+        second_order_section(runs),
         tol = HOVER_TOLERANCE,
         env = ENVELOPE_TARGET,
+    )
+}
+
+/// The section on the second-order term ([`second_order_markdown`]), with what it shows.
+fn second_order_section(runs: &[PlantRuns]) -> String {
+    let tables = second_order_markdown(runs);
+    if tables.is_empty() {
+        return tables;
+    }
+    format!(
+        "## The hover one-step miss on q and the second-order term\n\n\
+         Each cell: the flight default's ratio to extended plain's error, then the same for \
+         `{FIRST_ORDER_RATES}` (the flight default with its rate models' second-order term \
+         `η Δω(k)` held at zero; docs/results.md). The term passes gyro noise on to a one-step \
+         prediction and gives the rate models the rotor's fast response in a free run; below is \
+         what it costs and buys on each plant.\n\n{tables}"
     )
 }

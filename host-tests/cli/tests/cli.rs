@@ -297,7 +297,23 @@ fn end_to_end_on_a_short_flight() {
     let md = std::fs::read_to_string(dir.join("robustness.md")).expect("robustness.md");
     assert!(md.contains("### Fam\n"), "{md}");
     assert!(md.contains("by hand"), "{md}");
-    let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| plant ")).collect();
+    // The criteria tables come first; the second-order term's section follows them.
+    let (criteria, second_order) = md
+        .split_once("## The hover one-step miss on q and the second-order term")
+        .unwrap_or_else(|| panic!("no second-order section in:\n{md}"));
+    assert!(second_order.contains("### Fam: with / without the second-order term"));
+    let pairs: Vec<&str> = second_order
+        .lines()
+        .filter(|l| l.starts_with("| plant "))
+        .collect();
+    assert_eq!(pairs.len(), 3, "{second_order}");
+    // Each cell pairs the flight default's ratio with the first-order variant's.
+    assert_eq!(pairs[1].matches(" / ").count(), 7, "{}", pairs[1]);
+    assert!(second_order.contains("Of 2 plants: hover one step on q within 3 % with the term: "));
+    let rows: Vec<&str> = criteria
+        .lines()
+        .filter(|l| l.starts_with("| plant "))
+        .collect();
     // The header row starts with "| plant |" too.
     assert_eq!(rows.len(), 3, "{md}");
     assert_eq!(rows[1].replace("plant A", "plant B"), rows[2], "{md}");
