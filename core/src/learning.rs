@@ -98,69 +98,83 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation;
 }
 
+/// The [`TsEstimator`] methods that both estimators forward, unchanged, to their inherent
+/// methods of the same name and signature; each impl below adds only what differs (where the
+/// settings are, which RLS estimators there are, and the local one's kept strengths).
+macro_rules! forward_to_inherent {
+    () => {
+        fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
+            Self::check_new(config, scaling)
+        }
+        #[inline(always)]
+        fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self {
+            Self::with_scaling_unchecked(rules, config, scaling)
+        }
+        fn rules(&self) -> &RuleBase<T, V, R> {
+            self.rules()
+        }
+        fn scaling(&self) -> &Scaling<T, D> {
+            self.scaling()
+        }
+        fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
+            self.physical_parameter(rule, term)
+        }
+        fn predict_many<const M: usize>(
+            &self,
+            premise: &[T; V],
+            terms: &[[T; D]; M],
+        ) -> Result<[T; M], Error> {
+            self.predict_many(premise, terms)
+        }
+        fn prepare<const M: usize>(
+            &self,
+            premise: &[T; V],
+            terms: &[[T; D]; M],
+            targets: &[T; M],
+        ) -> Result<Prepared<T, R, D, M>, Error> {
+            self.prepare(premise, terms, targets)
+        }
+        fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
+            self.apply(prepared)
+        }
+        fn reset(&mut self) {
+            self.reset()
+        }
+        fn export(&self) -> Self::State {
+            self.export()
+        }
+        fn import(&mut self, state: &Self::State) -> Result<(), Error> {
+            self.import(state)
+        }
+        fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+            self.check_import(state)
+        }
+        fn reconfigure(
+            &mut self,
+            config: RlsConfig<T>,
+            scaling: Scaling<T, D>,
+        ) -> Result<(), Error> {
+            self.reconfigure(config, scaling)
+        }
+        fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
+            self.compensate(noise)
+        }
+    };
+}
+
 impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, const NP: usize>
     TsEstimator<T, V, R, D> for TsRls<T, V, R, D, N, NP>
 {
     type State = RlsState<T, N, NP>;
     const LEARNING: Learning = Learning::Global;
 
-    fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
-        Self::check_new(config, scaling)
-    }
-    #[inline(always)]
-    fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self {
-        Self::with_scaling_unchecked(rules, config, scaling)
-    }
-    fn rules(&self) -> &RuleBase<T, V, R> {
-        self.rules()
-    }
+    forward_to_inherent!();
+
     fn config(&self) -> &RlsConfig<T> {
         self.rls().config()
     }
-    fn scaling(&self) -> &Scaling<T, D> {
-        self.scaling()
-    }
-    fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
-        self.physical_parameter(rule, term)
-    }
-    fn predict_many<const M: usize>(
-        &self,
-        premise: &[T; V],
-        terms: &[[T; D]; M],
-    ) -> Result<[T; M], Error> {
-        self.predict_many(premise, terms)
-    }
-    fn prepare<const M: usize>(
-        &self,
-        premise: &[T; V],
-        terms: &[[T; D]; M],
-        targets: &[T; M],
-    ) -> Result<Prepared<T, R, D, M>, Error> {
-        self.prepare(premise, terms, targets)
-    }
-    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
-        self.apply(prepared)
-    }
-    fn reset(&mut self) {
-        self.reset()
-    }
-    fn export(&self) -> Self::State {
-        self.export()
-    }
-    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
-        self.import(state)
-    }
-    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
-        self.check_import(state)
-    }
-    fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
-        self.reconfigure(config, scaling)
-    }
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
         f(self.rls().view())
-    }
-    fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
-        self.compensate(noise)
     }
 }
 
@@ -170,31 +184,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     type State = LocalState<T, R, D, DP>;
     const LEARNING: Learning = Learning::Local;
 
-    fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
-        Self::check_new(config, scaling)
-    }
-    #[inline(always)]
-    fn build(rules: RuleBase<T, V, R>, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Self {
-        Self::with_scaling_unchecked(rules, config, scaling)
-    }
-    fn rules(&self) -> &RuleBase<T, V, R> {
-        self.rules()
-    }
+    forward_to_inherent!();
+
     fn config(&self) -> &RlsConfig<T> {
         self.config()
-    }
-    fn scaling(&self) -> &Scaling<T, D> {
-        self.scaling()
-    }
-    fn physical_parameter(&self, rule: usize, term: usize) -> Option<T> {
-        self.physical_parameter(rule, term)
-    }
-    fn predict_many<const M: usize>(
-        &self,
-        premise: &[T; V],
-        terms: &[[T; D]; M],
-    ) -> Result<[T; M], Error> {
-        self.predict_many(premise, terms)
     }
     fn predict_keep<const M: usize>(
         &mut self,
@@ -207,38 +200,9 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     fn kept_strengths(&self) -> Option<&[T; R]> {
         self.kept_strengths()
     }
-    fn prepare<const M: usize>(
-        &self,
-        premise: &[T; V],
-        terms: &[[T; D]; M],
-        targets: &[T; M],
-    ) -> Result<Prepared<T, R, D, M>, Error> {
-        self.prepare(premise, terms, targets)
-    }
-    fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
-        self.apply(prepared)
-    }
-    fn reset(&mut self) {
-        self.reset()
-    }
-    fn export(&self) -> Self::State {
-        self.export()
-    }
-    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
-        self.import(state)
-    }
-    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
-        self.check_import(state)
-    }
-    fn reconfigure(&mut self, config: RlsConfig<T>, scaling: Scaling<T, D>) -> Result<(), Error> {
-        self.reconfigure(config, scaling)
-    }
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
         for rule in (0..R).filter_map(|i| self.rule(i)) {
             f(rule.view())
         }
-    }
-    fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation {
-        self.compensate(noise)
     }
 }

@@ -27,13 +27,13 @@
 //! `R·D`-parameter update (`O(R² D²)`); memory `R·(D + D(D+1)/2)` instead of
 //! `R·D + R·D(R·D+1)/2`.
 
-use crate::error::{ConfigError, Error, Quantity};
+use crate::error::{Error, Quantity};
 use crate::rls::{
     AllParameters, Compensation, RegressorNoise, Rls, RlsConfig, RlsState, TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
-use crate::ts::{combine, prepare_rows, scaled_terms, Prepared, Scaling};
+use crate::ts::{combine, constructors, predict_from_blocks, prepare_rows, Prepared, Scaling};
 
 /// Rules with a normalised firing strength below this learn nothing from a sample (see the
 /// [module docs](self)).
@@ -106,41 +106,18 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
 {
     const SIZES_OK: () = assert!(R >= 1 && D >= 1, "LocalTsRls needs R ≥ 1 and D ≥ 1");
 
-    /// A model with the given rule base, estimator settings (every rule: θ_i(0) = 0,
-    /// P_i(0) = αI) and scales.
-    pub fn with_scaling(
-        rules: RuleBase<T, V, R>,
-        config: RlsConfig<T>,
-        scaling: Scaling<T, D>,
-    ) -> Result<Self, Error> {
-        Self::check_new(&config, &scaling)?;
-        Ok(Self::with_scaling_unchecked(rules, config, scaling))
-    }
-
-    /// The checks of [`with_scaling`](Self::with_scaling).
-    pub(crate) fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
-        #[allow(clippy::let_unit_value)]
-        let () = Self::SIZES_OK;
-        if R > 32 {
-            return Err(ConfigError::Dimensions.into());
-        }
-        scaling.validate()?;
-        Rls::<T, D, DP>::check_new(config)
-    }
-
-    #[inline(always)]
-    pub(crate) fn with_scaling_unchecked(
-        rules: RuleBase<T, V, R>,
-        config: RlsConfig<T>,
-        scaling: Scaling<T, D>,
-    ) -> Self {
-        Self {
+    constructors! {
+        /// A model with the given rule base, estimator settings (every rule: θ_i(0) = 0,
+        /// P_i(0) = αI) and scales.
+        dimensions_wrong: R > 32,
+        estimator: Rls<T, D, DP>,
+        unchecked: |rules, config, scaling| Self {
             rules,
             local: core::array::from_fn(|_| Rls::new_unchecked(config)),
             scaling,
             config,
             kept: Kept::none(),
-        }
+        },
     }
 
     /// The rule base.
@@ -191,7 +168,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         terms: &[[T; D]; M],
     ) -> Result<[T; M], Error> {
         let (_, b) = self.strengths_and_blocks(premise)?;
-        self.predict_from_blocks(&b, terms)
+        predict_from_blocks::<T, R, D, M>(&self.scaling, &b, terms)
     }
 
     /// [`predict_many`](Self::predict_many), keeping the firing strengths and block products
@@ -217,7 +194,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             blocks: b,
             valid: true,
         };
-        self.predict_from_blocks(&b, terms)
+        predict_from_blocks::<T, R, D, M>(&self.scaling, &b, terms)
     }
 
     /// The firing strengths the last [`predict_keep`](Self::predict_keep) computed or was
@@ -234,18 +211,6 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         let strengths = self.rules.firing_strengths(premise)?;
         let b = self.block_products(&strengths);
         Ok((strengths, b))
-    }
-
-    fn predict_from_blocks<const M: usize>(
-        &self,
-        b: &[T; D],
-        terms: &[[T; D]; M],
-    ) -> Result<[T; M], Error> {
-        let mut out = [T::zero(); M];
-        for (o, t) in out.iter_mut().zip(terms.iter()) {
-            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, b) * self.scaling.target;
-        }
-        Ok(out)
     }
 
     /// Checks and computes an update of M outputs without changing anything (see
@@ -291,13 +256,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             } else {
                 (w.sqrt(), T::one() - (T::one() - lambda) * w)
             };
-            for (r, (row, &y)) in prepared
-                .rows
-                .iter()
-                .zip(prepared.targets.iter())
-                .take(prepared.count)
-                .enumerate()
-            {
+            for (r, (row, &y)) in prepared.rows_to_learn() {
                 let e = y - combine(row, rls.parameters());
                 let phi = row.map(|x| x * root);
                 let l = if r == last { lambda_i } else { T::one() };

@@ -125,22 +125,68 @@ pub type LocalVelocityModel<T, const R: usize, const D: usize, const DP: usize> 
 pub type LocalRateModel<T, const R: usize, const D: usize, const DP: usize> =
     RateModel<T, R, D, LocalTsRls<T, 3, R, D, DP>>;
 
-/// The premises of the four models (translational, q̂, r̂, p̂).
+/// What a variant's four models are besides their rule bases and estimators: the structures
+/// and the premises (translational, then the same premise for q̂, r̂ and p̂).
 #[derive(Copy, Clone)]
-struct Premises {
-    velocity: Premise,
-    rates: Premise,
+struct Design {
+    velocity: VelocityStructure,
+    rate: RateStructure,
+    velocity_premise: Premise,
+    rate_premise: Premise,
 }
 
-impl Premises {
-    /// The paper's: `v^s` for the velocity, `[q r p]` for the rates.
+impl Design {
+    /// The paper's: Eqs. 27–30, `v^s` for the velocity, `[q r p]` for the rates.
     const PAPER: Self = Self {
-        velocity: Premise::Velocity,
-        rates: Premise::Rates,
+        velocity: VelocityStructure::Paper,
+        rate: RateStructure::Paper,
+        velocity_premise: Premise::Velocity,
+        rate_premise: Premise::Rates,
+    };
+    /// The extended structures on the paper's premises.
+    const EXTENDED: Self = Self {
+        velocity: VelocityStructure::Extended,
+        rate: RateStructure::Extended,
+        ..Self::PAPER
+    };
+    /// The flight structures, every model scheduled on the heading-frame velocity.
+    const FLIGHT: Self = Self {
+        velocity: VelocityStructure::Flight,
+        rate: RateStructure::Flight,
+        velocity_premise: Premise::HeadingVelocity,
+        rate_premise: Premise::HeadingVelocity,
     };
 }
 
-/// Builds the four models of an identifier from rule bases, structures and premises.
+/// The four rule bases (translational, q̂, r̂, p̂) of an identifier.
+type Rules<T, const RV: usize, const RQ: usize, const RR: usize, const RP: usize> = (
+    RuleBase<T, 3, RV>,
+    RuleBase<T, 3, RQ>,
+    RuleBase<T, 3, RR>,
+    RuleBase<T, 3, RP>,
+);
+
+/// Table 3's rule bases: the given velocity sets' (the paper's `v^s` or the `ṽ_y` ones) and
+/// the three rates', made in that order.
+fn table3_rules<T: Real, const RV: usize>(
+    velocity: fn() -> Result<RuleBase<T, 3, RV>, Error>,
+) -> Result<Rules<T, RV, 18, 9, 9>, Error> {
+    Ok((
+        velocity()?,
+        table3::pitch_rate()?,
+        table3::yaw_rate()?,
+        table3::roll_rate()?,
+    ))
+}
+
+/// Four rule bases made alike by `base`, one model after the other.
+fn four<T: Real, const R: usize>(
+    base: impl Fn() -> Result<RuleBase<T, 3, R>, Error>,
+) -> Result<Rules<T, R, R, R, R>, Error> {
+    Ok((base()?, base()?, base()?, base()?))
+}
+
+/// Builds the four models of an identifier from rule bases and its design.
 #[allow(clippy::type_complexity)]
 fn build<
     T: Real,
@@ -156,15 +202,8 @@ fn build<
     EP: TsEstimator<T, 3, RP, DA>,
 >(
     config: HoverConfig<T>,
-    rules: (
-        RuleBase<T, 3, RV>,
-        RuleBase<T, 3, RQ>,
-        RuleBase<T, 3, RR>,
-        RuleBase<T, 3, RP>,
-    ),
-    velocity: VelocityStructure,
-    rate: RateStructure,
-    premises: Premises,
+    rules: Rules<T, RV, RQ, RR, RP>,
+    design: Design,
 ) -> Result<
     HoverIdentifier<
         T,
@@ -175,10 +214,11 @@ fn build<
     >,
     Error,
 > {
+    let (velocity, rate) = (design.velocity, design.rate);
     let c = config.rls;
     let rs = config.rate_scaling::<DA>(rate);
     let vs = config.velocity_scaling::<DV>(velocity);
-    let (pv, pr) = (premises.velocity, premises.rates);
+    let (pv, pr) = (design.velocity_premise, design.rate_premise);
     // Everything is checked first; then the identifier is built as one expression from
     // inlined infallible constructors, so the compiler writes the ~11 KB of arrays straight
     // into the result instead of moving models through the stack.
@@ -197,55 +237,31 @@ fn build<
     })
 }
 
+// Each constructor below is its type's rule bases and design; `build` does the rest. The
+// rule bases are made before the configuration is checked, as they always were, so the same
+// error comes first.
+
 impl<T: Real> PaperFuzzyIdentifier<T> {
     /// The paper's fuzzy identifier: Eqs. 27–30 with Table 3's sets.
     pub fn paper_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
+        build(config, table3_rules(table3::velocity)?, Design::PAPER)
     }
 }
 
 impl<T: Real> PaperPlainIdentifier<T> {
     /// The paper's plain-RLS baseline: Eqs. 19 and 26, one rule per model.
     pub fn paper_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        let rules = (one()?, one()?, one()?, one()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
+        build(config, four(RuleBase::single_rule)?, Design::PAPER)
     }
 }
 
 impl<T: Real> ExtendedFuzzyIdentifier<T> {
     /// The extended fuzzy identifier (see [`ExtendedFuzzyIdentifier`]).
     pub fn extended_fuzzy(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::vertical_velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
         build(
             config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
+            table3_rules(table3::vertical_velocity)?,
+            Design::EXTENDED,
         )
     }
 }
@@ -253,52 +269,24 @@ impl<T: Real> ExtendedFuzzyIdentifier<T> {
 impl<T: Real> ExtendedPlainIdentifier<T> {
     /// The extended single-rule identifier (see [`ExtendedPlainIdentifier`]).
     pub fn extended_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        let rules = (one()?, one()?, one()?, one()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
-        )
+        build(config, four(RuleBase::single_rule)?, Design::EXTENDED)
     }
 }
 
 impl<T: Real> PaperLocalIdentifier<T> {
     /// The paper's structure and sets, learnt locally.
     pub fn paper_local(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
-        build(
-            config,
-            rules,
-            VelocityStructure::Paper,
-            RateStructure::Paper,
-            Premises::PAPER,
-        )
+        build(config, table3_rules(table3::velocity)?, Design::PAPER)
     }
 }
 
 impl<T: Real> ExtendedLocalIdentifier<T> {
     /// The extended structure with [`ExtendedFuzzyIdentifier`]'s sets, learnt locally.
     pub fn extended_local(config: HoverConfig<T>) -> Result<Self, Error> {
-        let rules = (
-            table3::vertical_velocity()?,
-            table3::pitch_rate()?,
-            table3::yaw_rate()?,
-            table3::roll_rate()?,
-        );
         build(
             config,
-            rules,
-            VelocityStructure::Extended,
-            RateStructure::Extended,
-            Premises::PAPER,
+            table3_rules(table3::vertical_velocity)?,
+            Design::EXTENDED,
         )
     }
 }
@@ -308,33 +296,13 @@ impl<T: Real> FlightIdentifier<T> {
     /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models.
     pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
         let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
-        let rules = (base()?, base()?, base()?, base()?);
-        build(
-            config,
-            rules,
-            VelocityStructure::Flight,
-            RateStructure::Flight,
-            Premises {
-                velocity: Premise::HeadingVelocity,
-                rates: Premise::HeadingVelocity,
-            },
-        )
+        build(config, four(base)?, Design::FLIGHT)
     }
 }
 
 impl<T: Real> FlightPlainIdentifier<T> {
     /// [`FlightIdentifier`]'s terms and premise with a single rule per model.
     pub fn flight_plain(config: HoverConfig<T>) -> Result<Self, Error> {
-        let one = || RuleBase::single_rule();
-        build(
-            config,
-            (one()?, one()?, one()?, one()?),
-            VelocityStructure::Flight,
-            RateStructure::Flight,
-            Premises {
-                velocity: Premise::HeadingVelocity,
-                rates: Premise::HeadingVelocity,
-            },
-        )
+        build(config, four(RuleBase::single_rule)?, Design::FLIGHT)
     }
 }

@@ -70,6 +70,57 @@ impl<T: Real, const D: usize> Default for Scaling<T, D> {
     }
 }
 
+/// The constructors of a TS estimator, written once for [`TsRls`] and
+/// [`LocalTsRls`](crate::LocalTsRls): `with_scaling` (documented by the caller); its checks,
+/// `check_new`, which refuses wrong sizes (`dimensions_wrong`), then the scales, then the
+/// settings of the RLS estimator type it is built from (`estimator`), in that order; and
+/// `with_scaling_unchecked`, whose body (`unchecked`, over the parameter names it gives) is
+/// the type's own. Both types have `SIZES_OK`.
+macro_rules! constructors {
+    (
+        $(#[$doc:meta])*
+        dimensions_wrong: $wrong:expr,
+        estimator: $rls:ty,
+        unchecked: |$rules:ident, $config:ident, $scaling:ident| $body:expr $(,)?
+    ) => {
+        $(#[$doc])*
+        pub fn with_scaling(
+            rules: $crate::rule_base::RuleBase<T, V, R>,
+            config: $crate::rls::RlsConfig<T>,
+            scaling: $crate::ts::Scaling<T, D>,
+        ) -> Result<Self, $crate::error::Error> {
+            Self::check_new(&config, &scaling)?;
+            Ok(Self::with_scaling_unchecked(rules, config, scaling))
+        }
+
+        /// The checks of [`with_scaling`](Self::with_scaling).
+        pub(crate) fn check_new(
+            config: &$crate::rls::RlsConfig<T>,
+            scaling: &$crate::ts::Scaling<T, D>,
+        ) -> Result<(), $crate::error::Error> {
+            #[allow(clippy::let_unit_value)]
+            let () = Self::SIZES_OK;
+            if $wrong {
+                return Err($crate::error::ConfigError::Dimensions.into());
+            }
+            scaling.validate()?;
+            <$rls>::check_new(config)
+        }
+
+        /// [`with_scaling`](Self::with_scaling) for inputs that passed
+        /// [`check_new`](Self::check_new) (built in place, see `Rls::new_unchecked`).
+        #[inline(always)]
+        pub(crate) fn with_scaling_unchecked(
+            $rules: $crate::rule_base::RuleBase<T, V, R>,
+            $config: $crate::rls::RlsConfig<T>,
+            $scaling: $crate::ts::Scaling<T, D>,
+        ) -> Self {
+            $body
+        }
+    };
+}
+pub(crate) use constructors;
+
 /// A TS rule base over `V` premise variables and `R` rules with `D` consequent terms per rule,
 /// `N = R·D` parameters and `NP = N(N+1)/2` packed covariance entries.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,41 +145,16 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         Self::with_scaling(rules, config, Scaling::unit())
     }
 
-    /// A model whose terms and target are divided by nominal scales.
-    pub fn with_scaling(
-        rules: RuleBase<T, V, R>,
-        config: RlsConfig<T>,
-        scaling: Scaling<T, D>,
-    ) -> Result<Self, Error> {
-        Self::check_new(&config, &scaling)?;
-        Ok(Self::with_scaling_unchecked(rules, config, scaling))
-    }
-
-    /// The checks of [`with_scaling`](Self::with_scaling).
-    pub(crate) fn check_new(config: &RlsConfig<T>, scaling: &Scaling<T, D>) -> Result<(), Error> {
-        #[allow(clippy::let_unit_value)]
-        let () = Self::SIZES_OK;
-        if N != R * D {
-            return Err(ConfigError::Dimensions.into());
-        }
-        scaling.validate()?;
-        Rls::<T, N, NP>::check_new(config)
-    }
-
-    /// [`with_scaling`](Self::with_scaling) for inputs that passed
-    /// [`check_new`](Self::check_new) (built in place, see `Rls::new_unchecked`).
-    #[inline(always)]
-    pub(crate) fn with_scaling_unchecked(
-        rules: RuleBase<T, V, R>,
-        config: RlsConfig<T>,
-        scaling: Scaling<T, D>,
-    ) -> Self {
-        Self {
+    constructors! {
+        /// A model whose terms and target are divided by nominal scales.
+        dimensions_wrong: N != R * D,
+        estimator: Rls<T, N, NP>,
+        unchecked: |rules, config, scaling| Self {
             rules,
             rls: Rls::new_unchecked(config),
             scaling,
             fired: 0,
-        }
+        },
     }
 
     /// The rule base.
@@ -239,11 +265,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
     ) -> Result<[T; M], Error> {
         let strengths = self.rules.firing_strengths(premise)?;
         let b = self.block_products(&strengths);
-        let mut out = [T::zero(); M];
-        for (o, t) in out.iter_mut().zip(terms.iter()) {
-            *o = combine(&scaled_terms::<T, R, D>(&self.scaling, t)?, &b) * self.scaling.target;
-        }
-        Ok(out)
+        predict_from_blocks::<T, R, D, M>(&self.scaling, &b, terms)
     }
 
     /// Learns from M outputs that share θ and the premise, output m having consequent terms
@@ -299,13 +321,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
         let support = support.get(..runs).unwrap_or(&[]);
         let last = prepared.count.saturating_sub(1);
         let forgetting = self.rls.config().forgetting;
-        for (r, (row, &y)) in prepared
-            .rows
-            .iter()
-            .zip(prepared.targets.iter())
-            .take(prepared.count)
-            .enumerate()
-        {
+        for (r, (row, &y)) in prepared.rows_to_learn() {
             let xi: [T; N] = regressor_of(&prepared.strengths, row);
             // Row 0's innovation was computed by `prepare` with this very θ; later rows see θ
             // after the earlier rows of this sample.
@@ -627,6 +643,19 @@ pub struct Prepared<T, const R: usize, const D: usize, const M: usize> {
     pub innovations: [T; M],
 }
 
+impl<T, const R: usize, const D: usize, const M: usize> Prepared<T, R, D, M> {
+    /// The rows to learn from, in order, each with its index and target: what both
+    /// estimators' `apply` walk.
+    #[inline(always)]
+    pub(crate) fn rows_to_learn(&self) -> impl Iterator<Item = (usize, (&[T; D], &T))> {
+        self.rows
+            .iter()
+            .zip(self.targets.iter())
+            .take(self.count)
+            .enumerate()
+    }
+}
+
 /// Outputs being combined into one row (see [`Prepared`]).
 #[derive(Copy, Clone, Default)]
 struct Group<T> {
@@ -667,6 +696,22 @@ fn single_term<T: Real, const D: usize>(terms: &[T; D]) -> Term<T> {
         }
     }
     found
+}
+
+/// `Σ_s Δ̃_s b_s` in the target's physical unit for each of M outputs, from the rule-weighted
+/// parameters `b` (see `block_products`): how the global and the local estimator both
+/// predict. Each output's terms are checked as [`scaled_terms`] does.
+#[inline(always)]
+pub(crate) fn predict_from_blocks<T: Real, const R: usize, const D: usize, const M: usize>(
+    scaling: &Scaling<T, D>,
+    b: &[T; D],
+    terms: &[[T; D]; M],
+) -> Result<[T; M], Error> {
+    let mut out = [T::zero(); M];
+    for (o, t) in out.iter_mut().zip(terms.iter()) {
+        *o = combine(&scaled_terms::<T, R, D>(scaling, t)?, b) * scaling.target;
+    }
+    Ok(out)
 }
 
 /// `Σ_s Δ̃_s b_s`: an output's prediction from [`TsRls`]'s block products.

@@ -56,31 +56,23 @@ impl<T: Real> BodyFrame<T> {
         }
     }
 
+    /// `(sφ, cφ, sθ, cθ, sψ, cψ)`: what both axes are written in.
+    #[inline(always)]
+    fn sines_cosines(&self) -> (T, T, T, T, T, T) {
+        (self.sf, self.cf, self.st, self.ct, self.sp, self.cp)
+    }
+
     /// [`rotor_axis`] of this attitude.
     #[inline]
     pub fn rotor_axis(&self) -> [T; 3] {
-        let Self {
-            sf,
-            cf,
-            st,
-            ct,
-            sp,
-            cp,
-        } = *self;
+        let (sf, cf, st, ct, sp, cp) = self.sines_cosines();
         [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp]
     }
 
     /// [`right_axis`] of this attitude.
     #[inline]
     pub fn right_axis(&self) -> [T; 3] {
-        let Self {
-            sf,
-            cf,
-            st,
-            ct,
-            sp,
-            cp,
-        } = *self;
+        let (sf, cf, st, ct, sp, cp) = self.sines_cosines();
         [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp]
     }
 }

@@ -13,6 +13,51 @@ use crate::rls::{Compensation, RlsConfig};
 use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
 
+/// The [`StateModel`] methods that [`RateModel`] and [`VelocityModel`] forward to their TS
+/// estimator `self.ts` (scheduled on `self.premise`), written once. `$scaling` names the
+/// [`HoverConfig`](crate::hover::HoverConfig) method that gives the model's scales for its
+/// structure (the only difference between the two).
+macro_rules! forward_to_estimator {
+    ($scaling:ident) => {
+        fn reset(&mut self) {
+            self.ts.reset();
+        }
+
+        fn export(&self) -> Self::State {
+            self.ts.export()
+        }
+
+        fn import(&mut self, state: &Self::State) -> Result<(), Error> {
+            self.ts.import(state)
+        }
+
+        fn check_import(&self, state: &Self::State) -> Result<(), Error> {
+            self.ts.check_import(state)
+        }
+
+        fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
+            self.ts
+                .reconfigure(config.rls, config.$scaling::<D>(self.structure))
+        }
+
+        fn rls_config(&self) -> &RlsConfig<T> {
+            self.ts.config()
+        }
+
+        fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>)) {
+            self.ts.for_each_rls(f)
+        }
+
+        fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
+            (self.premise, self.ts.rules().variables())
+        }
+
+        fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+            kept_by(self.premise, &self.ts)
+        }
+    };
+}
+
 mod frame;
 mod rate;
 mod velocity;

@@ -383,40 +383,5 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         }
     }
 
-    fn reset(&mut self) {
-        self.ts.reset();
-    }
-
-    fn export(&self) -> Self::State {
-        self.ts.export()
-    }
-
-    fn import(&mut self, state: &Self::State) -> Result<(), Error> {
-        self.ts.import(state)
-    }
-
-    fn check_import(&self, state: &Self::State) -> Result<(), Error> {
-        self.ts.check_import(state)
-    }
-
-    fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
-        self.ts
-            .reconfigure(config.rls, config.rate_scaling::<D>(self.structure))
-    }
-
-    fn rls_config(&self) -> &RlsConfig<T> {
-        self.ts.config()
-    }
-
-    fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>)) {
-        self.ts.for_each_rls(f)
-    }
-
-    fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
-        (self.premise, self.ts.rules().variables())
-    }
-
-    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
-        kept_by(self.premise, &self.ts)
-    }
+    forward_to_estimator!(rate_scaling);
 }
