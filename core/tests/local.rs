@@ -57,7 +57,6 @@ type LocalPlain = HoverIdentifier<
 
 fn local_plain(config: HoverConfig<f32>) -> LocalPlain {
     let vs = VelocityStructure::Extended.helicopter_scaling();
-    let rs = RateStructure::Extended.helicopter_scaling();
     let one = || RuleBase::single_rule().unwrap();
     let rate = |axis| {
         LocalRateModel::with_scaling(
@@ -66,7 +65,7 @@ fn local_plain(config: HoverConfig<f32>) -> LocalPlain {
             RateStructure::Extended,
             Premise::Rates,
             config.rls,
-            rs,
+            RateStructure::Extended.helicopter_scaling(axis),
         )
         .unwrap()
     };
@@ -296,7 +295,7 @@ fn flight_yaw<const R: usize>(rules: RuleBase<f32, 3, R>) -> LocalRateModel<f32,
         RateStructure::Flight,
         Premise::HeadingVelocity,
         HoverConfig::default().rls,
-        RateStructure::Flight.helicopter_scaling(),
+        RateStructure::Flight.helicopter_scaling(RateAxis::Yaw),
     )
     .unwrap()
 }

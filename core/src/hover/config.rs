@@ -1,7 +1,7 @@
 //! The settings every model of a [`HoverIdentifier`](super::HoverIdentifier) shares.
 
 use crate::error::{ConfigError, Error};
-use crate::hover::models::{RateStructure, VelocityStructure};
+use crate::hover::models::{RateAxis, RateStructure, VelocityStructure};
 use crate::rls::RlsConfig;
 use crate::scalar::Real;
 use crate::ts::Scaling;
@@ -73,10 +73,14 @@ impl<T: Real> HoverConfig<T> {
         }
     }
 
-    pub(crate) fn rate_scaling<const D: usize>(&self, s: RateStructure) -> Scaling<T, D> {
+    pub(crate) fn rate_scaling<const D: usize>(
+        &self,
+        s: RateStructure,
+        axis: RateAxis,
+    ) -> Scaling<T, D> {
         match self.scaling {
             RegressorScaling::None => Scaling::unit(),
-            RegressorScaling::Helicopter => s.helicopter_scaling(),
+            RegressorScaling::Helicopter => s.helicopter_scaling(axis),
         }
     }
 

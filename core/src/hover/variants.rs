@@ -216,7 +216,8 @@ fn build<
 > {
     let (velocity, rate) = (design.velocity, design.rate);
     let c = config.rls;
-    let rs = config.rate_scaling::<DA>(rate);
+    let rs = |axis| config.rate_scaling::<DA>(rate, axis);
+    let (rq, rr, rp) = (rs(RateAxis::Pitch), rs(RateAxis::Yaw), rs(RateAxis::Roll));
     let vs = config.velocity_scaling::<DV>(velocity);
     let (pv, pr) = (design.velocity_premise, design.rate_premise);
     // Everything is checked first; then the identifier is built as one expression from
@@ -224,14 +225,14 @@ fn build<
     // into the result instead of moving models through the stack.
     config.validate()?;
     VelocityModel::<T, RV, DV, EV>::check_new(velocity, &c, &vs)?;
-    RateModel::<T, RQ, DA, EQ>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RR, DA, ER>::check_new(rate, &c, &rs)?;
-    RateModel::<T, RP, DA, EP>::check_new(rate, &c, &rs)?;
+    RateModel::<T, RQ, DA, EQ>::check_new(rate, &c, &rq)?;
+    RateModel::<T, RR, DA, ER>::check_new(rate, &c, &rr)?;
+    RateModel::<T, RP, DA, EP>::check_new(rate, &c, &rp)?;
     Ok(HoverIdentifier {
         velocity: VelocityModel::with_scaling_unchecked(rules.0, velocity, pv, c, vs),
-        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rs),
-        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rs),
-        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rs),
+        pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rq),
+        yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rr),
+        roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rp),
         timing: Timing::of(&config),
         chain: Chain::empty(),
     })

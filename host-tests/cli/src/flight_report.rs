@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use rotorid::hover::{RateStructure, VelocityStructure};
+use rotorid::hover::{RateAxis, RateStructure, VelocityStructure};
 
 use crate::experiments::{ModelParameters, VariantResult};
 use crate::report::{Metrics, ReportError};
@@ -137,7 +137,7 @@ fn drag(
 /// (deg/s²)/(m/s): positive pitches the nose up with forward speed, as a rotor that flaps
 /// back does.
 fn speed_stability(params: &[ModelParameters], period_s: f64) -> Option<f64> {
-    let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>();
+    let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>(RateAxis::Pitch);
     let theta = params.iter().find(|p| p.model == "q")?.theta.get(..7)?;
     Some(f64::from(theta[5]) * scaling.target / scaling.terms[5] / period_s)
 }
@@ -315,10 +315,11 @@ fn plant_derivatives(params: &Helicopter, forward: f64) -> Result<[[f64; 2]; 3],
 /// The identified local derivatives of the flight identifier's rate models, per rule, from
 /// its exported parameters (scaled θ): `[δ/ΔT (1/s), κ/ΔT (deg/s² per m/s)]`.
 fn identified(params: &[ModelParameters], period_s: f64) -> Option<Vec<[[f64; 2]; 3]>> {
-    let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>();
-    let (sd, sk, sy) = (scaling.terms[2], scaling.terms[5], scaling.target);
     let mut rules = vec![[[0.0; 2]; 3]; 3];
-    for (m, name) in ["q", "r", "p"].iter().enumerate() {
+    let axes = [RateAxis::Pitch, RateAxis::Yaw, RateAxis::Roll];
+    for (m, (name, axis)) in ["q", "r", "p"].iter().zip(axes).enumerate() {
+        let scaling = RateStructure::Flight.helicopter_scaling::<f64, 7>(axis);
+        let (sd, sk, sy) = (scaling.terms[2], scaling.terms[5], scaling.target);
         let p = params.iter().find(|p| p.model == *name)?;
         for (rule, out) in rules.iter_mut().enumerate() {
             let theta = p.theta.get(rule * 7..rule * 7 + 7)?;
@@ -467,9 +468,10 @@ fn regime_bias(envelope: &Metrics) -> String {
          state's free run is lost. A bias of the same sign in both sideways directions is a \
          yaw moment that is even in the side speed (the main rotor's torque falls with \
          airspeed in any direction; the tail rotor's thrust changes steeply with the flow \
-         through it), which no consequent term of the rate models and no set on forward speed \
-         can represent. The last column schedules the yaw model on side speed too \
-         (`flight yaw on side speed`, 9 rules): what scheduling alone can remove.\n\n",
+         through it): extended plain has no term for it (see its r column), the flight \
+         default's yaw model has `𝕀 |v|` (`RateStructure::Flight`). The last column \
+         schedules the flight default's yaw model on side speed too (`flight yaw on side \
+         speed`, 9 rules): what scheduling adds to that term.\n\n",
     );
     s += "| regime | samples | flight: q | flight: r | flight: p | extended plain: q | extended plain: r | extended plain: p | yaw on side speed: r |\n";
     s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -213,7 +213,10 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          (`HoverIdentifier::compensate`) was added because of two X-Cell-like plants' hover \
          losses here, and its form (the damping term's noise fully, the second-order term's \
          only in its correlation with the target) was picked among five trials on these 26 \
-         plants; for that choice they are development data, not unseen helicopters.\n\n\
+         plants; for that choice they are development data, not unseen helicopters. So are \
+         they for the yaw model's term even in the side speed (`|v|` in place of the \
+         gyroscopic product, `RateStructure::Flight`), adopted after a trial on these 26 \
+         plants.\n\n\
          Columns: the flight default's error as a ratio to extended plain's (below 1 is \
          better), against issue 11's criteria: on the hover pair at most {tol} on every state, \
          free run (2 s windows) and one step (θ frozen), shown as the worst state; on the \

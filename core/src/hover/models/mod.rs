@@ -16,9 +16,10 @@ use crate::scalar::Real;
 /// The [`StateModel`] methods that [`RateModel`] and [`VelocityModel`] forward to their TS
 /// estimator `self.ts` (scheduled on `self.premise`), written once. `$scaling` names the
 /// [`HoverConfig`](crate::hover::HoverConfig) method that gives the model's scales for its
-/// structure (the only difference between the two).
+/// structure, and `$axis` the field it also needs, if any (a rate model's axis): the only
+/// difference between the two.
 macro_rules! forward_to_estimator {
-    ($scaling:ident) => {
+    ($scaling:ident $(, $axis:ident)?) => {
         fn reset(&mut self) {
             self.ts.reset();
         }
@@ -37,7 +38,7 @@ macro_rules! forward_to_estimator {
 
         fn reconfigure(&mut self, config: &crate::hover::HoverConfig<T>) -> Result<(), Error> {
             self.ts
-                .reconfigure(config.rls, config.$scaling::<D>(self.structure))
+                .reconfigure(config.rls, config.$scaling::<D>(self.structure $(, self.$axis)?))
         }
 
         fn rls_config(&self) -> &RlsConfig<T> {

@@ -16,7 +16,7 @@ use super::{check_terms, kept_by, BodyFrame, Premise, SharedStrengths, StateMode
 pub enum RateAxis {
     /// q̂, Eq. 28: `Δ = [r·p, u_lon·u_col]`.
     Pitch,
-    /// r̂, Eq. 29: `Δ = [q·p, u_ped]`.
+    /// r̂, Eq. 29: `Δ = [q·p, u_ped]` (with [`RateStructure::Flight`]: `[|v|, u_ped]`).
     Yaw,
     /// p̂, Eq. 30: `Δ = [q·r, u_lat·u_col]`.
     Roll,
@@ -57,6 +57,14 @@ pub enum RateStructure {
     ///   effect), `u`, `v` being the forward and rightward speed in the heading frame (m/s):
     ///   the velocity derivatives of every linear helicopter model, and they grow with
     ///   airspeed.
+    /// * For r̂, `𝕀 |v|` in place of the gyroscopic product `q p`: a yaw moment **even** in
+    ///   the rightward speed `v` (m/s). Sideways flight in either direction changes the main
+    ///   rotor's torque (its induced power falls with airspeed) and the tail rotor's thrust
+    ///   (the flow through its disc), which `κ v`, odd in `v`, cannot represent; the product
+    ///   `q p`, scaled by `(I_xx − I_yy)/I_zz` and two small rates, is the smallest term of
+    ///   yaw. On the envelope flights the yaw model's one-step prediction showed a bias of the
+    ///   same sign to either side (docs/results.md, "Where the trim is wrong") that this term
+    ///   takes up.
     /// * `η Δω(k)`, the previous increment of the rate: the rotor's flapping and inflow are
     ///   fast states that no sample records (flapping settles in ≈ 3 samples at 50 Hz), so
     ///   the rate responds as a second-order system at the sample scale; an ARX model of order
@@ -77,14 +85,16 @@ impl RateStructure {
         }
     }
 
-    /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): rate products
-    /// 100 (deg/s)², control products 0.05, rates 10 deg/s, collective 0.5, constants 1,
-    /// speeds 5 m/s, rate increments 1 deg/s; target `Δω` 1 deg/s per step.
-    pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
-        let nominal: &[f64] = match self {
-            Self::Paper => &[100.0, 0.05],
-            Self::Extended => &[100.0, 0.05, 10.0, 0.5, 1.0],
-            Self::Flight => &[100.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
+    /// Nominal scales for a miniature helicopter at 50 Hz of the model of `axis` (see
+    /// [`Scaling`]): rate products 100 (deg/s)², control products 0.05, rates 10 deg/s,
+    /// collective 0.5, constants 1, speeds 5 m/s (the yaw model's `|v|` of
+    /// [`Flight`](Self::Flight) too), rate increments 1 deg/s; target `Δω` 1 deg/s per step.
+    pub fn helicopter_scaling<T: Real, const D: usize>(self, axis: RateAxis) -> Scaling<T, D> {
+        let nominal: &[f64] = match (self, axis) {
+            (Self::Paper, _) => &[100.0, 0.05],
+            (Self::Extended, _) => &[100.0, 0.05, 10.0, 0.5, 1.0],
+            (Self::Flight, RateAxis::Yaw) => &[5.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
+            (Self::Flight, _) => &[100.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -205,14 +215,20 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
     pub fn terms_in(&self, s: &HoverSample<T>, frame: &BodyFrame<T>, before: &[T; 3]) -> [T; D] {
         let [q, r, p] = s.rates;
         let u = &s.controls;
+        let flight = self.structure == RateStructure::Flight;
+        let [forward, right, _] = if flight {
+            Premise::HeadingVelocity.of(s, frame)
+        } else {
+            [T::zero(); 3]
+        };
         let [cross, control] = match self.axis {
             RateAxis::Pitch => [r * p, u.lon * u.col],
+            RateAxis::Yaw if flight => [right.abs(), u.ped],
             RateAxis::Yaw => [q * p, u.ped],
             RateAxis::Roll => [q * r, u.lat * u.col],
         };
         let (speed, increment) = match self.structure {
             RateStructure::Flight => {
-                let [forward, right, _] = Premise::HeadingVelocity.of(s, frame);
                 let speed = match self.axis {
                     RateAxis::Pitch => forward,
                     RateAxis::Yaw | RateAxis::Roll => right,
@@ -383,5 +399,5 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         }
     }
 
-    forward_to_estimator!(rate_scaling);
+    forward_to_estimator!(rate_scaling, axis);
 }

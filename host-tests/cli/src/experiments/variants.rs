@@ -527,7 +527,7 @@ fn flight_with_side_speed_yaw() -> Result<SideSpeedYawIdentifier, rotorid::Error
         structure,
         Premise::HeadingVelocity,
         config.rls,
-        structure.helicopter_scaling(),
+        structure.helicopter_scaling(RateAxis::Yaw),
     )?;
     HoverIdentifier::new(
         flight.velocity_model().clone(),
