@@ -59,6 +59,7 @@ mod view;
 
 pub use errors_in_variables::{Compensation, NotCompensated, RegressorNoise};
 use update::RlsSlices;
+use update::{ud_update_unrolled, UNROLLED_UP_TO};
 pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 pub use view::RlsView;
 
@@ -564,6 +565,23 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         e: T,
         lambda: T,
     ) {
+        // Every parameter, few of them, U-D: the unrolled kernel (the same bits).
+        if support.max_len() == Some(N)
+            && N <= UNROLLED_UP_TO
+            && self.config.algorithm == Algorithm::UdFactor
+        {
+            ud_update_unrolled(
+                &mut self.theta,
+                &mut self.factor,
+                &self.config,
+                &mut self.counters,
+                xi,
+                e,
+                lambda,
+            );
+            self.counters.updates = self.counters.updates.wrapping_add(1);
+            return;
+        }
         let mut s1 = [T::zero(); N];
         let mut s2 = [T::zero(); N];
         let mut s3 = [T::zero(); N];
@@ -672,5 +690,75 @@ mod tests {
             }
             assert_eq!(dense.counters(), listed.counters());
         }
+    }
+
+    /// The unrolled U-D kernel (every parameter, N ≤ `UNROLLED_UP_TO`) and the slice kernel
+    /// (a support of runs) give the same bits: regressors with zero and -0 entries (columns
+    /// skipped), with and without forgetting, the windup guard holding forgetting off at
+    /// times; f32 and f64, several N.
+    fn unrolled_equals_slices<T: Real, const N: usize, const NP: usize>() {
+        for lambda in [1.0, 0.97] {
+            // A trace bound that the forgetting reaches: the guard holds at times.
+            let bound = T::lit(0.5 * N as f64);
+            let config = RlsConfig::robust(T::lit(1e3)).with_forgetting(T::lit(lambda), bound);
+            let mut unrolled = Rls::<T, N, NP>::new(config).unwrap();
+            let mut slices = unrolled.clone();
+            let all = [Run {
+                start: 0,
+                end: N as u16,
+            }];
+            let mut state = 0x2545_f491u32;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                state
+            };
+            for k in 0..400u32 {
+                let mut xi = [T::zero(); N];
+                for x in xi.iter_mut() {
+                    let r = next();
+                    *x = match r % 4 {
+                        0 => T::zero(),
+                        1 if k % 2 == 0 => -T::zero(),
+                        _ => T::lit(f64::from(r >> 8) / f64::from(1u32 << 24) - 0.5),
+                    };
+                }
+                let e = T::lit(f64::from(next() >> 8) / f64::from(1u32 << 24) - 0.5);
+                let l = if k % 3 == 2 { T::lit(lambda) } else { T::one() };
+                unrolled.update_row(&xi, AllParameters(N), e, l);
+                slices.update_row(&xi, &all[..], e, l);
+                let bits = |r: &Rls<T, N, NP>| {
+                    let s = r.export();
+                    (s.theta.map(T::to_bits_u64), s.factor.map(T::to_bits_u64))
+                };
+                assert_eq!(
+                    bits(&unrolled),
+                    bits(&slices),
+                    "N {N}, λ {lambda}, update {k}"
+                );
+            }
+            assert_eq!(unrolled.counters(), slices.counters());
+            if lambda < 1.0 {
+                let c = unrolled.counters();
+                assert!(
+                    c.windup_guards > 0 && c.windup_guards < c.updates / 3,
+                    "N {N}: the guard held {} times in {} updates",
+                    c.windup_guards,
+                    c.updates
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn unrolled_ud_kernel_equals_the_slice_kernel() {
+        unrolled_equals_slices::<f32, 1, 1>();
+        unrolled_equals_slices::<f32, 2, 3>();
+        unrolled_equals_slices::<f32, 5, 15>();
+        unrolled_equals_slices::<f32, 7, 28>();
+        unrolled_equals_slices::<f32, 8, 36>();
+        unrolled_equals_slices::<f64, 2, 3>();
+        unrolled_equals_slices::<f64, 7, 28>();
     }
 }
