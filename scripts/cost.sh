@@ -59,10 +59,11 @@ identifier's three forward-speed rules all learn at most steps. SysTick ticks ×
 ${worst}
 
 Target for the flight identifier (issue 11): at most 15 000 instructions on average.
-**Not met**: up to three rules per model each make a 7-parameter U-D update (about 45 % of
-the step, see below), and the three \`sincosf\` of the body frame compute in f64 soft-float
-(\`__muldf3\`, \`__adddf3\`: about a quarter of the step), which the rule "transcendental maths
-through \`libm\`" keeps.
+**Not met**: the three \`sincosf\` of the body frame compute in f64 soft-float (\`__muldf3\`,
+\`__adddf3\`, \`__aeabi_d2f\` and \`sincosf\` itself: about 6 200 instructions, more than a third
+of the step, see below), which the rule "transcendental maths through \`libm\`" keeps; the
+rest of the step is about 10 600. The U-D updates (up to three rules per model, the
+velocity model's three rows each) are the next largest part.
 
 ## Where the flight identifier's instructions go
 
@@ -91,18 +92,16 @@ of \`q p\` changed the model, and with it the hash, at no cost):
 | the rate models take the velocity model's firing strengths (\`SharedStrengths\`; which models share is found once, not at every sample) | 23 600 | 24 680 |
 | \`block_products\` inlined into the prediction again (as it was inside \`strengths_and_blocks\`) | 23 520 | 24 600 |
 | the yaw model's term even in the side speed (a model change: another hash) | 23 560 | 24 600 |
+| the U-D update over every parameter of a small estimator (N ≤ 8) unrolled: one call per column, each row loop of constant length (7 parameters: about 290 instructions instead of 600) | 17 720 | 18 320 |
+| local learning weights a rule's rows through their variance \`1/ξ_i\` instead of scaling them by \`√ξ_i\` (no \`sqrtf\`; a numerical change: another hash) | 16 800 | 17 320 |
 | now | see table | see table |
 
 The forward-speed firing strengths are computed once per sample (by the velocity model; the
 rate models, on the same premise and sets, take them): \`strengths\` and \`expf\` went from
-about 1 570 to about 390 instructions per step. Not done: each model still computes the same
-√ξ_i of local learning (\`sqrtf\`, about 560 instructions per step; computing them once would
-save three quarters, but needs a per-step value in the models' \`apply\`), and \`sqrtf\` is
-libm's software square root (the M4F's \`vsqrt\`, the same bits, is reachable on stable Rust
-only through \`unsafe\` asm). The rest, besides the U-D update and \`sincosf\`, is spread over
-the four models' own work (their terms, \`scaled_terms\`' divisions by the nominal scales at
-both prediction and update, the kept-premise checks, the block products: \`prepare_in\`,
-\`predict_keep\`, \`apply\` together about 4 100 instructions per step).
+about 1 570 to about 390 instructions per step. The rest, besides the U-D update and
+\`sincosf\`, is spread over the four models' own work (their terms, \`scaled_terms\`' divisions
+by the nominal scales at both prediction and update, the kept-premise checks, the block
+products: \`prepare_in\`, \`predict_keep\`, \`apply\` together about 3 800 instructions per step).
 
 ## Flash and RAM (\`arm-none-eabi-size\`)
 
@@ -160,7 +159,8 @@ History on the same flight (mean instructions per fuzzy step):
   velocity model's updates cost what 6 parameters cost, not 54; the rate models fire most
   of their rules. Models of one rule or of at most 16 parameters (the plain identifiers', and
   each rule of local learning) have little to skip and take the bare estimator's dense update
-  instead, inlined for their size.
+  instead; up to 8 parameters it is unrolled (one call per column, each row loop of constant
+  length: a 7-parameter update in about 290 instructions).
 * **Trigonometry**: \`libm\`'s \`sincosf\` computes in f64, i.e. soft-float on the M4F
   (\`__muldf3\`, \`__adddf3\`): about 2 000 instructions per call, 3 calls per step (the
   previous sample's body frame is kept). It is bit-identical to separate \`sinf\` and \`cosf\`.

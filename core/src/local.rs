@@ -9,8 +9,9 @@
 //! Here every rule i keeps its own parameters θ_i (D terms) and its own covariance P_i
 //! (`D(D+1)/2` packed entries) and fits the data *locally*: it minimises
 //! `Σ_k λ^(…) ξ_i(k) (y(k) − Δ(k)ᵀθ_i)²`, the fuzzily weighted least squares of evolving TS
-//! systems (Angelov and Filev, eTS, 2004). One step of it is an ordinary RLS update with the
-//! regressor and target multiplied by `√ξ_i`, so each rule reuses [`Rls`] as it is. The model
+//! systems (Angelov and Filev, eTS, 2004). One step of it is an ordinary RLS update of a
+//! measurement whose variance is `1/ξ_i` (the same as the regressor and target multiplied by
+//! `√ξ_i`, without the square root), so each rule reuses [`Rls`] as it is. The model
 //! still predicts `ŷ = Σ_i ξ_i Δᵀθ_i`. Each θ_i is then the best linear model of the data
 //! weighted by how much rule i describes them: a local linearisation, meaningful on its own.
 //!
@@ -29,7 +30,8 @@
 
 use crate::error::{Error, Quantity};
 use crate::rls::{
-    AllParameters, Compensation, RegressorNoise, Rls, RlsConfig, RlsState, TARGET_LIMIT,
+    AllParameters, Compensation, Measurement, RegressorNoise, Rls, RlsConfig, RlsState,
+    TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
@@ -237,7 +239,8 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
 
     /// Learns from a [`Prepared`] update made by this model's [`prepare`](Self::prepare) with
     /// the model unchanged since: every rule with `ξ_i ≥` [`MIN_LOCAL_STRENGTH`] takes each row
-    /// weighted by `√ξ_i`, forgetting with `λ_i` once per sample.
+    /// with weight `ξ_i` (measurement variance `1/ξ_i`), forgetting with `λ_i` once per
+    /// sample.
     pub fn apply<const M: usize>(&mut self, prepared: &Prepared<T, R, D, M>) {
         // θ changes: what was kept is stale (clearing the flag is enough, and cheaper than
         // writing a whole `Kept::none()` at every step).
@@ -250,17 +253,23 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
                 continue;
             }
             let lambda = rls.config().forgetting;
-            // ξ_i = 1 keeps √ξ_i and λ_i exact, so that one rule is the global model.
-            let (root, lambda_i) = if w == T::one() {
-                (T::one(), lambda)
+            // ξ_i = 1 keeps λ_i and the variances exact (x/1 = x), so that one rule is the
+            // global model.
+            let lambda_i = if w == T::one() {
+                lambda
             } else {
-                (w.sqrt(), T::one() - (T::one() - lambda) * w)
+                T::one() - (T::one() - lambda) * w
             };
             for (r, (row, &y)) in prepared.rows_to_learn() {
                 let e = y - combine(row, rls.parameters());
-                let phi = row.map(|x| x * root);
                 let l = if r == last { lambda_i } else { T::one() };
-                rls.update_row(&phi, AllParameters(D), e * root, l);
+                // Weight ξ_i: the row's variance is 1/ξ_i (times λ_i).
+                let m = Measurement {
+                    e,
+                    variance: l / w,
+                    lambda: l,
+                };
+                rls.update_row(row, AllParameters(D), m);
             }
         }
     }

@@ -60,7 +60,7 @@ mod view;
 pub use errors_in_variables::{Compensation, NotCompensated, RegressorNoise};
 use update::RlsSlices;
 use update::{ud_update_unrolled, UNROLLED_UP_TO};
-pub(crate) use update::{AllParameters, ParameterSupport, Run, DENSE_SUMS_UP_TO};
+pub(crate) use update::{AllParameters, Measurement, ParameterSupport, Run, DENSE_SUMS_UP_TO};
 pub use view::RlsView;
 
 /// Largest accepted magnitude of a regressor entry `ξ_j`.
@@ -402,7 +402,11 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// `y − ξᵀθ(k)`. On `Err` nothing changed.
     pub fn update(&mut self, regressor: &[T; N], target: T) -> Result<T, Error> {
         let [e] = self.check(core::array::from_ref(regressor), &[target])?;
-        self.update_row(regressor, AllParameters(N), e, self.config.forgetting);
+        self.update_row(
+            regressor,
+            AllParameters(N),
+            Measurement::row(e, self.config.forgetting),
+        );
         Ok(e)
     }
 
@@ -475,7 +479,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             } else {
                 T::one()
             };
-            self.update_row(xi, AllParameters(N), e, lambda);
+            self.update_row(xi, AllParameters(N), Measurement::row(e, lambda));
         }
     }
 
@@ -562,8 +566,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         &mut self,
         xi: &[T; N],
         support: S,
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
     ) {
         // Every parameter, few of them, U-D: the unrolled kernel (the same bits).
         if support.max_len() == Some(N)
@@ -576,8 +579,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                 &self.config,
                 &mut self.counters,
                 xi,
-                e,
-                lambda,
+                m,
             );
             self.counters.updates = self.counters.updates.wrapping_add(1);
             return;
@@ -612,7 +614,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             counters: &mut self.counters,
         };
         let nz = nz.get(..nnz).unwrap_or(&[]);
-        let applied = support.update(&mut w, xi, nz, e, lambda, [&mut s1, &mut s2, &mut s3]);
+        let applied = support.update(&mut w, xi, nz, m, [&mut s1, &mut s2, &mut s3]);
         if applied {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
@@ -680,8 +682,8 @@ mod tests {
                     }
                 }
                 let e = xi[0] - 0.25 * xi[3];
-                dense.update_row(&xi, AllParameters(4), e, 1.0);
-                listed.update_row(&xi, &all[..], e, 1.0);
+                dense.update_row(&xi, AllParameters(4), Measurement::row(e, 1.0));
+                listed.update_row(&xi, &all[..], Measurement::row(e, 1.0));
                 let bits = |r: &Rls<f32, 4, 10>| {
                     let s = r.export();
                     (s.theta.map(f32::to_bits), s.factor.map(f32::to_bits))
@@ -726,8 +728,8 @@ mod tests {
                 }
                 let e = T::lit(f64::from(next() >> 8) / f64::from(1u32 << 24) - 0.5);
                 let l = if k % 3 == 2 { T::lit(lambda) } else { T::one() };
-                unrolled.update_row(&xi, AllParameters(N), e, l);
-                slices.update_row(&xi, &all[..], e, l);
+                unrolled.update_row(&xi, AllParameters(N), Measurement::row(e, l));
+                slices.update_row(&xi, &all[..], Measurement::row(e, l));
                 let bits = |r: &Rls<T, N, NP>| {
                     let s = r.export();
                     (s.theta.map(T::to_bits_u64), s.factor.map(T::to_bits_u64))

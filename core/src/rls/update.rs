@@ -14,6 +14,32 @@ pub(crate) struct Run {
     pub(crate) end: u16,
 }
 
+/// One scalar measurement as an update takes it.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Measurement<T> {
+    /// The prior innovation `y − ξᵀθ`.
+    pub(crate) e: T,
+    /// The measurement's variance, in units of the estimator's noise variance, times the
+    /// forgetting factor it is updated with: `λ` for an ordinary row (the paper's
+    /// `λ + ξᵀPξ`), `λ/w` for a row of weight w (weighted least squares: the same update as
+    /// the row and innovation scaled by `√w`, without the square root).
+    pub(crate) variance: T,
+    /// The forgetting factor λ applied after the update (`P ← P/λ`).
+    pub(crate) lambda: T,
+}
+
+impl<T: Real> Measurement<T> {
+    /// An ordinary row (unit weight) with forgetting factor λ.
+    #[inline(always)]
+    pub(crate) fn row(e: T, lambda: T) -> Self {
+        Self {
+            e,
+            variance: lambda,
+            lambda,
+        }
+    }
+}
+
 /// The parameters an update may change, as ascending disjoint runs of indices.
 ///
 /// A trait rather than a slice so that the dense case ([`AllParameters`], what a bare [`Rls`]
@@ -38,8 +64,7 @@ pub(crate) trait ParameterSupport: Copy {
         w: &mut RlsSlices<'_, T>,
         xi: &[T],
         nz: &[u16],
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         s: [&mut [T]; 3],
     ) -> bool;
 }
@@ -78,12 +103,11 @@ impl ParameterSupport for AllParameters {
         w: &mut RlsSlices<'_, T>,
         xi: &[T],
         nz: &[u16],
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         s: [&mut [T]; 3],
     ) -> bool {
         let [s1, s2, s3] = s;
-        w.update(xi, nz, self, e, lambda, s1, s2, s3)
+        w.update(xi, nz, self, m, s1, s2, s3)
     }
 }
 
@@ -111,12 +135,11 @@ impl ParameterSupport for &[Run] {
         w: &mut RlsSlices<'_, T>,
         xi: &[T],
         nz: &[u16],
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         s: [&mut [T]; 3],
     ) -> bool {
         let [s1, s2, s3] = s;
-        w.update_shared(xi, nz, self, e, lambda, s1, s2, s3)
+        w.update_shared(xi, nz, self, m, s1, s2, s3)
     }
 }
 
@@ -144,16 +167,15 @@ impl<T: Real> RlsSlices<'_, T> {
         xi: &[T],
         nz: &[u16],
         support: &[Run],
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         s1: &mut [T],
         s2: &mut [T],
         s3: &mut [T],
     ) -> bool {
-        self.update(xi, nz, support, e, lambda, s1, s2, s3)
+        self.update(xi, nz, support, m, s1, s2, s3)
     }
 
-    /// One update with prior innovation `e` and forgetting factor `lambda`; scratch slices of
+    /// One update with the measurement `m` (see [`Measurement`]); scratch slices of
     /// length N. Returns whether it was applied.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
@@ -162,22 +184,22 @@ impl<T: Real> RlsSlices<'_, T> {
         xi: &[T],
         nz: &[u16],
         support: S,
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         s1: &mut [T],
         s2: &mut [T],
         s3: &mut [T],
     ) -> bool {
         match self.config.algorithm {
-            Algorithm::Covariance => self.covariance_update(xi, nz, support, e, lambda, s1, s2),
+            Algorithm::Covariance => self.covariance_update(xi, nz, support, m, s1, s2),
             Algorithm::UdFactor => {
-                self.ud_update(xi, nz, support, e, lambda, s1, s2, s3);
+                self.ud_update(xi, nz, support, m, s1, s2, s3);
                 true
             }
         }
     }
 
-    /// `K = Pξ/(λ + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e`. Returns whether the
+    /// `K = Pξ/(r + ξᵀPξ)`, `P ← (P − K (Pξ)ᵀ)/λ`, `θ ← θ + K e` (`r` the measurement's
+    /// variance, λ for an ordinary row). Returns whether the
     /// update was applied (see [`RlsCounters::numerical_skips`]). `g`, `k`: zeroed scratch.
     #[allow(clippy::too_many_arguments)]
     fn covariance_update<S: ParameterSupport>(
@@ -185,8 +207,7 @@ impl<T: Real> RlsSlices<'_, T> {
         xi: &[T],
         nz: &[u16],
         support: S,
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         g: &mut [T],
         k: &mut [T],
     ) -> bool {
@@ -226,7 +247,12 @@ impl<T: Real> RlsSlices<'_, T> {
                 }
             }
         }
-        let mut denom = lambda;
+        let Measurement {
+            e,
+            variance,
+            lambda,
+        } = m;
+        let mut denom = variance;
         if support.dense_sums() {
             for (&x, &gi) in xi.iter().zip(g.iter()) {
                 denom += x * gi;
@@ -328,7 +354,8 @@ impl<T: Real> RlsSlices<'_, T> {
         true
     }
 
-    /// Bierman's U-D measurement update with measurement variance λ, then `D ← D/λ`.
+    /// Bierman's U-D measurement update with the measurement's variance `r` (λ for an ordinary
+    /// row), then `D ← D/λ`.
     /// `f`, `v`, `b`: zeroed scratch.
     ///
     /// Always inlined: into `update_shared` (one copy for the runs of every model) and into
@@ -343,8 +370,7 @@ impl<T: Real> RlsSlices<'_, T> {
         xi: &[T],
         nz: &[u16],
         support: S,
-        e: T,
-        lambda: T,
+        m: Measurement<T>,
         f: &mut [T],
         v: &mut [T],
         b: &mut [T],
@@ -370,12 +396,17 @@ impl<T: Real> RlsSlices<'_, T> {
             }
         }
         // b accumulates the unnormalised gain U D f = P ξ.
-        let mut alpha = lambda;
-        // 1/λ, without a division in the usual case λ = 1 (1/1 = 1 exactly).
-        let mut inv_alpha = if lambda == T::one() {
+        let Measurement {
+            e,
+            variance,
+            lambda,
+        } = m;
+        let mut alpha = variance;
+        // 1/α₀, without a division in the usual case α₀ = 1 (1/1 = 1 exactly).
+        let mut inv_alpha = if variance == T::one() {
             T::one()
         } else {
-            T::one() / lambda
+            T::one() / variance
         };
         for run in support.runs() {
             for j in run.clone() {
@@ -521,9 +552,13 @@ pub(crate) fn ud_update_unrolled<T: Real, const N: usize, const NP: usize>(
     config: &RlsConfig<T>,
     counters: &mut RlsCounters,
     xi: &[T; N],
-    e: T,
-    lambda: T,
+    m: Measurement<T>,
 ) {
+    let Measurement {
+        e,
+        variance,
+        lambda,
+    } = m;
     let zero = T::zero();
     let at = |packed: &[T; NP], k: usize| packed.get(k).copied().unwrap_or(zero);
     // f = Uᵀ ξ (f_j = ξ_j + Σ_{i<j} U_ij ξ_i, ascending i); v = D f.
@@ -548,11 +583,11 @@ pub(crate) fn ud_update_unrolled<T: Real, const N: usize, const NP: usize>(
         f,
         v,
         b: [zero; N],
-        alpha: lambda,
-        inv_alpha: if lambda == T::one() {
+        alpha: variance,
+        inv_alpha: if variance == T::one() {
             T::one()
         } else {
-            T::one() / lambda
+            T::one() / variance
         },
     };
     column.update::<0, NP>(factor);

@@ -28,8 +28,8 @@
 
 use crate::error::{ConfigError, Error, Quantity};
 use crate::rls::{
-    col, AllParameters, Compensation, NotCompensated, RegressorNoise, Rls, RlsConfig, RlsState,
-    Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
+    col, AllParameters, Compensation, Measurement, NotCompensated, RegressorNoise, Rls, RlsConfig,
+    RlsState, Run, DENSE_SUMS_UP_TO, REGRESSOR_LIMIT, TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
@@ -333,9 +333,11 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             // λ once per sample: the earlier rows are plain measurement updates.
             let lambda = if r == last { forgetting } else { T::one() };
             if small {
-                self.rls.update_row(&xi, AllParameters(N), e, lambda);
+                self.rls
+                    .update_row(&xi, AllParameters(N), Measurement::row(e, lambda));
             } else {
-                self.rls.update_row(&xi, support, e, lambda);
+                self.rls
+                    .update_row(&xi, support, Measurement::row(e, lambda));
             }
         }
     }

@@ -98,7 +98,7 @@ fn updates_over_the_fired_rules_equal_updates_over_all_parameters() {
                     prepared.targets[r] - dense.dot(&xi)
                 };
                 let l = if r + 1 == prepared.count { lambda } else { 1.0 };
-                dense.update_row(&xi, AllParameters(72), e, l);
+                dense.update_row(&xi, AllParameters(72), Measurement::row(e, l));
             }
             ts.apply(&prepared);
             let (a, b) = (bits(&ts.export()), bits(&dense.export()));
