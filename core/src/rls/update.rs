@@ -470,30 +470,7 @@ impl<T: Real> RlsSlices<'_, T> {
                 *t += bi * gain;
             }
         }
-        if lambda < T::one() {
-            // trace(P⁺) exactly as `Rls::trace` sums it (the same code).
-            if self.view().trace() / lambda <= self.config.max_trace {
-                let s = T::one() / lambda;
-                for j in 0..self.theta.len() {
-                    if let Some(d) = self.factor.get_mut(col(j) + j) {
-                        *d *= s;
-                    }
-                }
-            } else {
-                self.counters.windup_guards = self.counters.windup_guards.wrapping_add(1);
-            }
-        }
-    }
-
-    /// The read view of these slices (the view's `trace` is the windup guard's).
-    #[inline(always)]
-    fn view(&self) -> RlsView<'_, T> {
-        RlsView {
-            config: self.config,
-            theta: self.theta,
-            factor: self.factor,
-            counters: self.counters,
-        }
+        ud_forget(self.config, self.theta, self.factor, self.counters, lambda);
     }
 }
 
@@ -603,23 +580,38 @@ pub(crate) fn ud_update_unrolled<T: Real, const N: usize, const NP: usize>(
     for (t, &bi) in theta.iter_mut().zip(b.iter()) {
         *t += bi * gain;
     }
-    if lambda < T::one() {
-        let view = RlsView {
-            config,
-            theta,
-            factor,
-            counters,
-        };
-        if view.trace() / lambda <= config.max_trace {
-            let s = T::one() / lambda;
-            for j in 0..N {
-                if let Some(d) = factor.get_mut(col(j) + j) {
-                    *d *= s;
-                }
+    ud_forget(config, theta, factor, counters, lambda);
+}
+
+/// `D ← D/λ` after a U-D update with forgetting (λ < 1), unless trace(P)/λ would pass the
+/// windup guard's bound ([`RlsConfig::max_trace`]), which is then counted instead. trace(P)
+/// is summed as [`RlsView::trace`] sums it (the same code).
+#[inline(always)]
+fn ud_forget<T: Real>(
+    config: &RlsConfig<T>,
+    theta: &[T],
+    factor: &mut [T],
+    counters: &mut RlsCounters,
+    lambda: T,
+) {
+    if lambda >= T::one() {
+        return;
+    }
+    let view = RlsView {
+        config,
+        theta,
+        factor,
+        counters,
+    };
+    if view.trace() / lambda <= config.max_trace {
+        let s = T::one() / lambda;
+        for j in 0..theta.len() {
+            if let Some(d) = factor.get_mut(col(j) + j) {
+                *d *= s;
             }
-        } else {
-            counters.windup_guards = counters.windup_guards.wrapping_add(1);
         }
+    } else {
+        counters.windup_guards = counters.windup_guards.wrapping_add(1);
     }
 }
 
