@@ -543,3 +543,70 @@ fn shared_strengths_are_taken_only_by_the_same_premise_and_sets() {
     let kinds = RuleBase::<f32, 3, 3>::new([kinds, none(), none()]).unwrap();
     assert_eq!(shared.for_rules(Premise::HeadingVelocity, &kinds), None);
 }
+
+/// Each rule's θ_i is the fuzzily weighted least-squares fit of the data with weights ξ_i,
+/// `θ_i = (Σ ξ_i Δ Δᵀ + P(0)⁻¹)⁻¹ Σ ξ_i Δ y`, solved here in batch (nalgebra, f64), for
+/// both forms, on two rules that overlap and a few rows of weight under 1 %. A weight taken
+/// as √ξ_i or 1/ξ_i instead would miss it by far more than the tolerance.
+#[test]
+fn each_rule_solves_its_weighted_least_squares_problem() {
+    use nalgebra::{Matrix3, Vector3};
+    let sets = rotorid::hover::table3::sets(&[
+        LeftShoulder {
+            centre: 0.0f64,
+            spread: 2.0,
+        },
+        RightShoulder {
+            centre: 4.0,
+            spread: 2.0,
+        },
+    ]);
+    let rules = RuleBase::<f64, 2, 2>::new([sets, Default::default()]).unwrap();
+    for algorithm in [Algorithm::UdFactor, Algorithm::Covariance] {
+        let alpha = 1e4;
+        let config = RlsConfig {
+            algorithm,
+            ..RlsConfig::robust(alpha)
+        };
+        let mut ts =
+            LocalTsRls::<f64, 2, 2, 3, 6>::with_scaling(rules.clone(), config, Scaling::unit())
+                .unwrap();
+        let mut normal = [Matrix3::<f64>::identity() / alpha; 2];
+        let mut moment = [Vector3::<f64>::zeros(); 2];
+        let mut seed = 0x1234_5678u32;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            f64::from(seed >> 8) / f64::from(1u32 << 24)
+        };
+        let mut light = 0;
+        for _ in 0..400 {
+            let premise = [12.0 * uniform() - 4.0, 0.0];
+            let terms = [uniform() - 0.5, 2.0 * uniform() - 1.0, 1.0];
+            let y = 3.0 * terms[0] - terms[1] + 0.5 + 0.1 * (uniform() - 0.5);
+            let xi = rules.firing_strengths(&premise).unwrap();
+            let p = ts.prepare(&premise, &[terms], &[y]).unwrap();
+            ts.apply(&p);
+            let d = Vector3::from(terms);
+            for (i, &w) in xi.iter().enumerate() {
+                if w >= MIN_LOCAL_STRENGTH {
+                    normal[i] += w * d * d.transpose();
+                    moment[i] += w * y * d;
+                    light += usize::from(w < 0.01);
+                }
+            }
+        }
+        assert!(light > 5, "too few rows of weight under 1 %: {light}");
+        for (i, (n, m)) in normal.iter().zip(moment.iter()).enumerate() {
+            let want = n.lu().solve(m).unwrap();
+            for (s, &w) in want.iter().enumerate() {
+                let got = ts.physical_parameter(i, s).unwrap();
+                assert!(
+                    (got - w).abs() <= 1e-9 * (1.0 + w.abs()),
+                    "{algorithm:?} rule {i} term {s}: {got} vs {w}"
+                );
+            }
+        }
+    }
+}
