@@ -544,10 +544,8 @@ pub(crate) fn ud_update_unrolled<T: Real, const N: usize, const NP: usize>(
     for j in 0..N {
         let c = col(j);
         let mut s = xi.get(j).copied().unwrap_or(zero);
-        for i in 0..N {
-            if i < j {
-                s += at(factor, c + i) * xi.get(i).copied().unwrap_or(zero);
-            }
+        for (i, &x) in xi.iter().enumerate().take(j) {
+            s += at(factor, c + i) * x;
         }
         if let (Some(fj), Some(vj)) = (f.get_mut(j), v.get_mut(j)) {
             *fj = s;
