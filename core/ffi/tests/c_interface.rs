@@ -423,9 +423,24 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         assert_eq!(stack.len(), 1, "no stack report in {report}");
         (stack.concat(), rest.join("\n") + "\n")
     };
+    // Text of a firmware without the flight's data (each sample: its time and 13 floats).
+    let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
+    let text_of = |elf: &Path| -> usize {
+        let size = run(Command::new("arm-none-eabi-size").arg(elf));
+        let text: usize = size
+            .lines()
+            .nth(1)
+            .and_then(|l| l.split_whitespace().next())
+            .and_then(|t| t.parse().ok())
+            .unwrap();
+        text - flight_bytes
+    };
     let elf = dir.join("firmware.elf");
     let (stack, report) = split(&firmware("-DDRIVE_SMALL", &elf));
-    eprintln!("C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes");
+    eprintln!(
+        "C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes, text {} bytes",
+        text_of(&elf)
+    );
     assert_eq!(report, expected(&flight, true));
     // No panic path: the library's every function in the firmware, by the static call graph.
     let script = crate_dir().join("../../scripts/no_panic.py");
@@ -438,7 +453,6 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
     assert!(panics.0.starts_with("0 of our functions"), "{}", panics.0);
     // Each kind on its own, through its own init (which links that kind's code only): the
     // stack it needs and the flash it takes (text without the flight's data).
-    let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
     let inits = [
         (1, "flight"),
         (2, "flight_plain"),
@@ -453,16 +467,9 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
         let (stack, report) = split(&firmware(&only, &elf));
         assert!(report.contains(&format!("kind {kind} steps")), "{report}");
-        let size = run(Command::new("arm-none-eabi-size").arg(&elf));
-        let text: usize = size
-            .lines()
-            .nth(1)
-            .and_then(|l| l.split_whitespace().next())
-            .and_then(|t| t.parse().ok())
-            .unwrap();
         eprintln!(
             "C firmware, rotorid_init_{name} only: {stack} bytes, text {} bytes",
-            text - flight_bytes
+            text_of(&elf)
         );
     }
 }
