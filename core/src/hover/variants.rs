@@ -167,7 +167,11 @@ type Rules<T, const RV: usize, const RQ: usize, const RR: usize, const RP: usize
 );
 
 /// Table 3's rule bases: the given velocity sets' (the paper's `v^s` or the `ṽ_y` ones) and
-/// the three rates', made in that order.
+/// the three rates', made in that order. Always inlined, as is [`four`]: out of line (a C
+/// library built for size leaves them so) the rule bases were moved through the stack, and
+/// the C firmware's stack for `ExtendedLocalIdentifier` was 16.8 KB instead of 7.2
+/// (docs/c-interface.md).
+#[inline(always)]
 fn table3_rules<T: Real, const RV: usize>(
     velocity: fn() -> Result<RuleBase<T, 3, RV>, Error>,
 ) -> Result<Rules<T, RV, 18, 9, 9>, Error> {
@@ -180,6 +184,7 @@ fn table3_rules<T: Real, const RV: usize>(
 }
 
 /// Four rule bases made alike by `base`, one model after the other.
+#[inline(always)]
 fn four<T: Real, const R: usize>(
     base: impl Fn() -> Result<RuleBase<T, 3, R>, Error>,
 ) -> Result<Rules<T, R, R, R, R>, Error> {
