@@ -263,13 +263,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             for (r, (row, &y)) in prepared.rows_to_learn() {
                 let e = y - combine(row, rls.parameters());
                 let l = if r == last { lambda_i } else { T::one() };
-                // Weight ξ_i: the row's variance is 1/ξ_i (times λ_i).
-                let m = Measurement {
-                    e,
-                    variance: l / w,
-                    lambda: l,
-                };
-                rls.update_row(row, AllParameters(D), m);
+                rls.update_row(row, AllParameters(D), Measurement::weighted(e, w, l));
             }
         }
     }

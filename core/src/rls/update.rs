@@ -38,6 +38,17 @@ impl<T: Real> Measurement<T> {
             lambda,
         }
     }
+
+    /// A row of weight `w` (0 < w ≤ 1) with forgetting factor λ: variance `λ/w`
+    /// (`λ` exactly for `w = 1`).
+    #[inline(always)]
+    pub(crate) fn weighted(e: T, w: T, lambda: T) -> Self {
+        Self {
+            e,
+            variance: lambda / w,
+            lambda,
+        }
+    }
 }
 
 /// The parameters an update may change, as ascending disjoint runs of indices.
