@@ -52,3 +52,31 @@ fn every_identifier_is_bit_identical_on_the_cortex_m4f() {
     assert_eq!(host.len(), 7, "{host:?}");
     assert_eq!(host, target, "firmware output:\n{text}");
 }
+
+/// The firmware links libgcc's `f64` soft-float (feature `libgcc-soft-float`, on by default),
+/// as docs/cost.md says its figures do: none of `compiler_builtins`' float additions or
+/// multiplications is left in the step-cost binary, and the `__aeabi_` entry points are there.
+#[test]
+fn the_firmware_takes_its_double_precision_soft_float_from_libgcc() {
+    step_cost_qemu().expect("firmware builds");
+    let out = Command::new("arm-none-eabi-nm")
+        .args(["-C", "--defined-only"])
+        .arg(host_tests::firmware_link::step_cost_elf())
+        .output()
+        .expect("arm-none-eabi-nm runs (scripts/setup.sh installs it)");
+    assert!(out.status.success());
+    let symbols = String::from_utf8_lossy(&out.stdout);
+    let defined = |name: &str| symbols.lines().any(|l| l.ends_with(name));
+    assert!(
+        defined(" __aeabi_dmul") && defined(" __aeabi_dadd"),
+        "{symbols}"
+    );
+    let from_builtins: Vec<&str> = symbols
+        .lines()
+        .filter(|l| {
+            l.contains("compiler_builtins::float::mul")
+                || l.contains("compiler_builtins::float::add")
+        })
+        .collect();
+    assert!(from_builtins.is_empty(), "{from_builtins:?}");
+}
