@@ -8,6 +8,7 @@
 //! them it is skipped with a message, except under `CI=1`, where it fails.
 
 use std::fmt::Write as _;
+use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -467,9 +468,47 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
         let (stack, report) = split(&firmware(&only, &elf));
         assert!(report.contains(&format!("kind {kind} steps")), "{report}");
-        eprintln!(
-            "C firmware, rotorid_init_{name} only: {stack} bytes, text {} bytes",
-            text_of(&elf)
+        let text = text_of(&elf);
+        eprintln!("C firmware, rotorid_init_{name} only: {stack} bytes, text {text} bytes");
+        let stack: usize = stack
+            .split_whitespace()
+            .nth(1)
+            .and_then(|n| n.parse().ok())
+            .unwrap();
+        documented_sizes_hold(&name.to_uppercase(), stack, text);
+    }
+}
+
+/// docs/c-interface.md's size table states each kind's stack and firmware text as measured
+/// above: a change of more than 10 % either way fails here, so that a regression (the local
+/// kinds' stack once more than doubled unnoticed) or a stale table shows at once. Re-measure
+/// with `cargo test --manifest-path core/ffi/Cargo.toml --release -- --nocapture`.
+fn documented_sizes_hold(kind: &str, stack: usize, text: usize) {
+    let doc_path = crate_dir().join("../../docs/c-interface.md");
+    let doc = fs::read_to_string(&doc_path).unwrap();
+    let row = format!("| `ROTORID_KIND_{kind}`");
+    let line = doc
+        .lines()
+        .find(|l| l.starts_with(&row))
+        .unwrap_or_else(|| panic!("no row {row} in {}", doc_path.display()));
+    // | kind | storage | export | stack | firmware text |, numbers with thousands spaces.
+    let number = |cell: usize| -> usize {
+        let digits: String = line
+            .split('|')
+            .nth(cell)
+            .unwrap_or("")
+            .chars()
+            .filter(char::is_ascii_digit)
+            .collect();
+        digits
+            .parse()
+            .unwrap_or_else(|_| panic!("no number in column {cell} of {line}"))
+    };
+    for (what, measured, documented) in [("stack", stack, number(4)), ("text", text, number(5))] {
+        assert!(
+            measured * 10 <= documented * 11 && measured * 10 >= documented * 9,
+            "{kind}: {what} {measured} B, docs/c-interface.md says {documented} B (more than \
+             10 % apart: a regression, or re-measure and update the table)"
         );
     }
 }
