@@ -30,6 +30,10 @@
 //!    and read the log with `probe-rs run --chip <CHIP>` instead of QEMU + `defmt-print`.
 //!    Semihosting is slow and stops a target that has no debugger.
 //! 4. **.cargo/config.toml**: `runner = "probe-rs run --chip <CHIP>"`.
+//! 5. **f64 soft-float**: `build.rs` links GCC's `libgcc` for it (feature `libgcc-soft-float`,
+//!    default; about 2 300 instructions per identifier step fewer than `compiler_builtins`,
+//!    the same bits). It needs `arm-none-eabi-gcc`; without it build with
+//!    `--no-default-features`.
 //!
 //! The numerics need nothing: the core is bit-for-bit identical on every IEEE-754 f32 target
 //! (no fast-math, no fused multiply-add contraction in Rust).

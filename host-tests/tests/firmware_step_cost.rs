@@ -10,7 +10,7 @@ mod step_cost;
 use std::collections::BTreeMap;
 use std::process::Command;
 
-use host_tests::firmware_link::step_cost_qemu;
+use host_tests::firmware_link::{build_firmware, step_cost_elf, step_cost_qemu};
 use step_cost::{StepCost, Timer};
 
 struct NoTimer;
@@ -58,10 +58,10 @@ fn every_identifier_is_bit_identical_on_the_cortex_m4f() {
 /// multiplications is left in the step-cost binary, and the `__aeabi_` entry points are there.
 #[test]
 fn the_firmware_takes_its_double_precision_soft_float_from_libgcc() {
-    step_cost_qemu().expect("firmware builds");
+    build_firmware().expect("firmware builds");
     let out = Command::new("arm-none-eabi-nm")
         .args(["-C", "--defined-only"])
-        .arg(host_tests::firmware_link::step_cost_elf())
+        .arg(step_cost_elf())
         .output()
         .expect("arm-none-eabi-nm runs (scripts/setup.sh installs it)");
     assert!(out.status.success());

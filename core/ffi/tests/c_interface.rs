@@ -463,6 +463,7 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         (7, "paper_local"),
         (8, "extended_local"),
     ];
+    let doc = fs::read_to_string(crate_dir().join("../../docs/c-interface.md")).unwrap();
     for (kind, name) in inits {
         let elf = dir.join(format!("kind{kind}.elf"));
         let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
@@ -475,22 +476,20 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
             .nth(1)
             .and_then(|n| n.parse().ok())
             .unwrap();
-        documented_sizes_hold(&name.to_uppercase(), stack, text);
+        documented_sizes_hold(&doc, &name.to_uppercase(), stack, text);
     }
 }
 
-/// docs/c-interface.md's size table states each kind's stack and firmware text as measured
-/// above: a change of more than 10 % either way fails here, so that a regression (the local
-/// kinds' stack once more than doubled unnoticed) or a stale table shows at once. Re-measure
-/// with `cargo test --manifest-path core/ffi/Cargo.toml --release -- --nocapture`.
-fn documented_sizes_hold(kind: &str, stack: usize, text: usize) {
-    let doc_path = crate_dir().join("../../docs/c-interface.md");
-    let doc = fs::read_to_string(&doc_path).unwrap();
+/// docs/c-interface.md (`doc`)'s size table states each kind's stack and firmware text as
+/// measured above: a change of more than 10 % either way fails here, so that a regression
+/// (the local kinds' stack once more than doubled unnoticed) or a stale table shows at once.
+/// Re-measure with `cargo test --manifest-path core/ffi/Cargo.toml --release -- --nocapture`.
+fn documented_sizes_hold(doc: &str, kind: &str, stack: usize, text: usize) {
     let row = format!("| `ROTORID_KIND_{kind}`");
     let line = doc
         .lines()
         .find(|l| l.starts_with(&row))
-        .unwrap_or_else(|| panic!("no row {row} in {}", doc_path.display()));
+        .unwrap_or_else(|| panic!("no row {row} in docs/c-interface.md"));
     // | kind | storage | export | stack | firmware text |, numbers with thousands spaces.
     let number = |cell: usize| -> usize {
         let digits: String = line

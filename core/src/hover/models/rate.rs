@@ -227,19 +227,18 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
             RateAxis::Yaw => [q * p, u.ped],
             RateAxis::Roll => [q * r, u.lat * u.col],
         };
-        let (speed, increment) = match self.structure {
-            RateStructure::Flight => {
-                let speed = match self.axis {
-                    RateAxis::Pitch => forward,
-                    RateAxis::Yaw | RateAxis::Roll => right,
-                };
-                let earlier = before.get(self.axis.index()).copied();
-                (
-                    speed,
-                    self.rate(s) - earlier.unwrap_or_else(|| self.rate(s)),
-                )
-            }
-            _ => (T::zero(), T::zero()),
+        let (speed, increment) = if flight {
+            let speed = match self.axis {
+                RateAxis::Pitch => forward,
+                RateAxis::Yaw | RateAxis::Roll => right,
+            };
+            let earlier = before.get(self.axis.index()).copied();
+            (
+                speed,
+                self.rate(s) - earlier.unwrap_or_else(|| self.rate(s)),
+            )
+        } else {
+            (T::zero(), T::zero())
         };
         let all = [
             cross,
