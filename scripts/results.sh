@@ -73,9 +73,11 @@ for plant in xcell60 $second; do
     done <<EOF
 as flown (noise and turbulence)|${pair[0]}|${pair[1]}|
 as flown, free run not compensated for the gyro noise|${pair[0]}|${pair[1]}|--gyro-noise none
+as flown, rates run free on the measured velocity|${pair[0]}|${pair[1]}|--free-run-velocity measured
 trained without sensor noise, verified as flown|$plant-$t-n0.csv|${pair[1]}
 no sensor noise (turbulence kept)|$plant-$t-n0.csv|$plant-$v-n0.csv
 still air, no sensor noise|$plant-$t-c.csv|$plant-$v-c.csv
+still air, no sensor noise, rates run free on the measured velocity|$plant-$t-c.csv|$plant-$v-c.csv|--free-run-velocity measured
 EOF
   done
   conditions+=(--condition "$title, hover pair, other verification flights|verification seed 2 (the pair above)|$as_flown/metrics.json")

@@ -158,8 +158,12 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
                 s += &format!("| {} | (flight or baseline variant missing) |\n", c.label);
                 continue;
             };
+            // A state that did not run free (`--free-run-velocity measured`) has no ratio.
             let cells: Vec<String> = (0..6)
-                .map(|i| format!("{:.2}", f.free_run[i] / b.free_run[i]))
+                .map(|i| match b.free_run[i] {
+                    e if e > 0.0 => format!("{:.2}", f.free_run[i] / e),
+                    _ => "–".to_string(),
+                })
                 .collect();
             let (worst, state) = worst_ratio(&f.one_step, &b.one_step);
             let cell = |params: &[ModelParameters], structure| {

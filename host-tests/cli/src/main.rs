@@ -139,6 +139,12 @@ enum Command {
         /// three (`Q,R,P`) are each rate's.
         #[arg(long, default_value = "auto", value_parser = parse_gyro_noise)]
         gyro_noise: GyroNoise,
+        /// The velocity the free run feeds the models: `model` (their own prediction, the
+        /// whole identifier's free run) or `measured` (the measured velocity while the rates
+        /// run free: the rate models' free run without the velocity model's error; the
+        /// velocities' free-run errors are then zero).
+        #[arg(long, value_enum, default_value_t = FreeRunVelocityArg::Model)]
+        free_run_velocity: FreeRunVelocityArg,
     },
     /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
     /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
@@ -354,6 +360,7 @@ fn main() -> ExitCode {
             no_plots,
             warm_start,
             gyro_noise,
+            free_run_velocity,
         } => run_identify(
             &train,
             &verify,
@@ -363,6 +370,7 @@ fn main() -> ExitCode {
             no_plots,
             warm_start.as_deref(),
             gyro_noise,
+            free_run_velocity.into(),
         ),
         Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report(args) => run_report(&args),
@@ -516,6 +524,24 @@ fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), CliError
     write_text(path, text + "\n")
 }
 
+/// `--free-run-velocity` ([`experiments::FreeRunVelocity`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum FreeRunVelocityArg {
+    /// The velocity model's own prediction.
+    Model,
+    /// The measured velocity.
+    Measured,
+}
+
+impl From<FreeRunVelocityArg> for experiments::FreeRunVelocity {
+    fn from(v: FreeRunVelocityArg) -> Self {
+        match v {
+            FreeRunVelocityArg::Model => Self::Model,
+            FreeRunVelocityArg::Measured => Self::Measured,
+        }
+    }
+}
+
 /// `--gyro-noise`: what the free run's parameters are compensated for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum GyroNoise {
@@ -561,6 +587,7 @@ fn run_identify(
     no_plots: bool,
     warm_start: Option<&Path>,
     gyro_noise: GyroNoise,
+    free_run_velocity: experiments::FreeRunVelocity,
 ) -> Result<(), CliError> {
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(CliError::Window(window));
@@ -592,6 +619,9 @@ fn run_identify(
             "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
         );
     }
+    if free_run_velocity == experiments::FreeRunVelocity::Measured {
+        eprintln!("free runs on the measured velocity: the rates run free, the velocities do not");
+    }
     let variants = experiments::variants();
     let n_train: usize = training.iter().map(Vec::len).sum();
     let total = (n_train + verification.len()) * variants.len();
@@ -605,13 +635,17 @@ fn run_identify(
         bar.set_message(v.name);
         let warm = if i == 0 { warm.as_deref() } else { None };
         let mut tick = || bar.inc(1);
+        let free_runs = experiments::FreeRunSettings {
+            window_s: window,
+            gyro_noise,
+            velocity: free_run_velocity,
+        };
         results.push(experiments::evaluate(
             v,
             &training,
             &verification,
-            window,
+            free_runs,
             warm,
-            gyro_noise,
             &mut tick,
         )?);
     }
@@ -659,6 +693,7 @@ fn run_identify(
         verification_samples: verification.len(),
         window_s: window,
         gyro_noise_deg_s: gyro_noise,
+        free_run_velocity,
         states: report::state_labels(),
         variants: results,
         table4,

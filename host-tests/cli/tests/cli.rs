@@ -196,6 +196,60 @@ fn end_to_end_on_a_short_flight() {
     assert_ne!(flight_none["free_run"], flight["free_run"]);
     assert_eq!(flight_none["one_step"], flight["one_step"]);
     assert!(flight_none.get("free_run_least_squares").is_none());
+    // `--free-run-velocity measured`: the rates run free on the measured velocity. The
+    // velocities then have no free-run error; one step is unchanged; extended plain's rate
+    // models read no speed, so their free runs are the same bits; the flight default's read
+    // it, so its r's is not.
+    assert_eq!(metrics["free_run_velocity"], "model");
+    let out_measured = dir.join("out-measured");
+    let o = run(bin()
+        .args([
+            "identify",
+            "--no-plots",
+            "--free-run-velocity",
+            "measured",
+            "--train",
+        ])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out_measured)
+        .args(["--window", "1"]));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m_measured: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_measured.join("metrics.json")).expect("metrics"),
+    )
+    .expect("json");
+    assert_eq!(m_measured["free_run_velocity"], "measured");
+    let by_name = |m: &serde_json::Value, name: &str| {
+        m["variants"]
+            .as_array()
+            .and_then(|vs| vs.iter().find(|v| v["name"] == name).cloned())
+            .expect(name)
+    };
+    for name in &names {
+        let (model, measured) = (by_name(&metrics, name), by_name(&m_measured, name));
+        assert_eq!(measured["one_step"], model["one_step"], "{name}");
+        for i in 0..3 {
+            assert_eq!(measured["free_run"][i], 0.0, "{name}: velocity {i}");
+            assert!(model["free_run"][i].as_f64().is_some_and(|e| e > 0.0));
+        }
+    }
+    let (plain, plain_measured) = (
+        by_name(&metrics, "extended plain"),
+        by_name(&m_measured, "extended plain"),
+    );
+    for i in 3..6 {
+        assert_eq!(
+            plain_measured["free_run"][i], plain["free_run"][i],
+            "rate {i}"
+        );
+    }
+    assert_ne!(
+        by_name(&m_measured, "flight")["free_run"][4],
+        flight["free_run"][4]
+    );
     for bad in ["1,2", "-0.3", "NaN", "loud"] {
         let o = run(bin()
             .args(["identify", &format!("--gyro-noise={bad}"), "--train"])

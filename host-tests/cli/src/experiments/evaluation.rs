@@ -211,10 +211,29 @@ pub struct FreeRun {
     pub diverged: usize,
 }
 
+/// Which velocity a free run feeds the models (`rotorid identify --free-run-velocity`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FreeRunVelocity {
+    /// The velocity model's own prediction `v̂^s` (the free run of the whole identifier).
+    #[default]
+    Model,
+    /// The measured `v^s` of each sample, while the rates run free: the rate models' free
+    /// run without the velocity model's error (a diagnostic: the rate models of
+    /// [`RateStructure::Flight`](rotorid::hover::RateStructure::Flight) read the speed). The
+    /// velocity states' free-run errors are then zero.
+    Measured,
+}
+
 /// Free-run simulation of a frozen model over `samples` in windows of `window` steps: each
-/// window starts from the measured state, then the model is fed its own predicted `v^s`,
-/// `ω^b` with the measured attitude and controls.
-pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize) -> FreeRun {
+/// window starts from the measured state, then the model is fed its own predicted `ω^b` and,
+/// with [`FreeRunVelocity::Model`], its own `v^s`, with the measured attitude and controls.
+pub fn free_run(
+    id: &dyn Identifier,
+    samples: &[HoverSample<f32>],
+    window: usize,
+    velocity: FreeRunVelocity,
+) -> FreeRun {
     let window = window.max(1);
     let mut trace = vec![None; samples.len()];
     let mut pairs = Vec::new();
@@ -233,10 +252,15 @@ pub fn free_run(id: &dyn Identifier, samples: &[HoverSample<f32>], window: usize
         }
         for j in start..end {
             let mut s = samples[j];
-            s.velocity = x.velocity;
+            if velocity == FreeRunVelocity::Model {
+                s.velocity = x.velocity;
+            }
             s.rates = x.rates;
             match id.predict_after(before.as_ref(), &s) {
-                Ok(next) => {
+                Ok(mut next) => {
+                    if velocity == FreeRunVelocity::Measured {
+                        next.velocity = samples[j + 1].velocity;
+                    }
                     before = Some(x);
                     x = next;
                     trace[j + 1] = Some(next);
@@ -273,19 +297,29 @@ pub fn gyro_noise_of(training: &[Vec<HoverSample<f32>>]) -> Option<[f32; 3]> {
     noise.std_dev()
 }
 
+/// How [`evaluate`] runs its free runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeRunSettings {
+    /// Window (s): each window restarts from the measured state.
+    pub window_s: f64,
+    /// σ of the gyro noise `[q r p]` (deg/s) the free run's parameters are compensated for
+    /// (`None`: the least-squares parameters run free).
+    pub gyro_noise: Option<[f32; 3]>,
+    /// The velocity the models are fed.
+    pub velocity: FreeRunVelocity,
+}
+
 /// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
-/// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run over
-/// windows of `window_s` seconds. With `gyro_noise` (σ per rate, deg/s), the free run is that
-/// of the parameters compensated for the gyros' noise (the least-squares parameters' is kept
-/// beside it). `progress` is called once per training sample and once per verification
-/// sample.
+/// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run as
+/// `free_runs` says: with a gyro noise, the free run is that of the parameters compensated
+/// for it (the least-squares parameters' is kept beside it). `progress` is called once per
+/// training sample and once per verification sample.
 pub fn evaluate(
     variant: &Variant,
     training: &[Vec<HoverSample<f32>>],
     verification: &[HoverSample<f32>],
-    window_s: f64,
+    free_runs: FreeRunSettings,
     warm_start: Option<&[ModelParameters]>,
-    gyro_noise: Option<[f32; 3]>,
     progress: &mut dyn FnMut(),
 ) -> Result<VariantResult, EvaluateError> {
     let mut id = (variant.build)(training).map_err(|source| EvaluateError::Build {
@@ -329,16 +363,16 @@ pub fn evaluate(
     let mut adapting = id.boxed_clone();
     let stats = train(adapting.as_mut(), &[verification.to_vec()], &mut || {});
 
-    let window = (window_s * f64::from(SAMPLE_RATE_HZ)).round();
+    let window = (free_runs.window_s * f64::from(SAMPLE_RATE_HZ)).round();
     let window = if window.is_finite() && window >= 1.0 {
         window as usize
     } else {
         1
     };
-    let least_squares = free_run(id.as_ref(), verification, window);
+    let least_squares = free_run(id.as_ref(), verification, window, free_runs.velocity);
     let mut compensated_rules = [0; 2];
     let mut compensated_parameters = None;
-    let (free, free_run_least_squares) = match gyro_noise {
+    let (free, free_run_least_squares) = match free_runs.gyro_noise {
         Some(sigma) => {
             let mut simulated = id.boxed_clone();
             let c = simulated
@@ -349,7 +383,7 @@ pub fn evaluate(
                 })?;
             compensated_rules = [c.compensated, c.refused];
             if c.compensated > 0 {
-                let free = free_run(simulated.as_ref(), verification, window);
+                let free = free_run(simulated.as_ref(), verification, window, free_runs.velocity);
                 compensated_parameters = Some(simulated.parameters());
                 (free, Some(least_squares.error))
             } else {

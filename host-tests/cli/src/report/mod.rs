@@ -57,6 +57,10 @@ pub struct Metrics {
     /// (`None`: not compensated).
     #[serde(default)]
     pub gyro_noise_deg_s: Option<[f32; 3]>,
+    /// The velocity the free runs fed the models (`model` unless
+    /// `--free-run-velocity measured`).
+    #[serde(default)]
+    pub free_run_velocity: crate::experiments::FreeRunVelocity,
     /// State names and units, in the order of every array.
     pub states: Vec<String>,
     /// Per variant.
