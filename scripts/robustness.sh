@@ -36,6 +36,8 @@ fly() {
     "$bin" simulate --plant "$plant" "${v[@]}" --kind envelope-verification --seed 2 -o envelope-verify.csv
     "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
     "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured \
+      --no-plots --free-run-velocity measured
   ) >"$dir.log" 2>&1
 }
 
@@ -54,8 +56,8 @@ for plant in xcell60 flybarless600; do
   for variation in "" $(seq 1 "$plants"); do
     dir=$plant-${variation:-airframe}
     if [ -z "$variation" ]; then label="the airframe itself (docs/results.md)"; else label="variation $variation"; fi
-    if [ -f "$dir/envelope/metrics.json" ] && [ -f "$dir/hover/metrics.json" ]; then
-      runs+=(--run "$title family|$label|$dir/hover/metrics.json|$dir/envelope/metrics.json")
+    if [ -f "$dir/envelope-measured/metrics.json" ] && [ -f "$dir/hover/metrics.json" ]; then
+      runs+=(--run "$title family|$label|$dir/hover/metrics.json|$dir/envelope/metrics.json|$dir/envelope-measured/metrics.json")
     else
       echo "$title, $label: not flown (see below)" >&2
       tail -3 "$dir.log" >&2
@@ -73,7 +75,8 @@ how="scripts/robustness.sh $plants
   rotorid simulate --plant PLANT --plant-variation SEED --kind envelope --seed 1 -o envelope.csv
   rotorid simulate --plant PLANT --plant-variation SEED --kind envelope-verification --seed 2 -o envelope-verify.csv
   rotorid identify --train ident.csv --verify verify.csv --out hover --no-plots
-  rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots"
+  rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+  rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured --no-plots --free-run-velocity measured"
 [ -z "$skipped" ] || how+="
 not flown (the simulation failed):$skipped"
 "$bin" robustness-report "${runs[@]}" --how "$how" -o "$output"

@@ -163,11 +163,16 @@ enum Command {
     /// scripts/robustness.sh).
     #[command(hide = true)]
     RobustnessReport {
-        /// One plant's runs as `FAMILY|LABEL|HOVER_METRICS|ENVELOPE_METRICS`: the table it goes
-        /// in, its row's label, and the metrics.json of its hover and envelope pairs.
-        /// Repeatable; tables and rows keep the order given.
-        #[arg(long = "run", value_name = "FAMILY|LABEL|HOVER|ENVELOPE", value_parser = parse_run)]
-        runs: Vec<(String, String, PathBuf, PathBuf)>,
+        /// One plant's runs as `FAMILY|LABEL|HOVER_METRICS|ENVELOPE_METRICS[|MEASURED]`: the
+        /// table it goes in, its row's label, the metrics.json of its hover and envelope pairs,
+        /// and optionally that of the envelope pair run with `identify --free-run-velocity
+        /// measured`. Repeatable; tables and rows keep the order given.
+        #[arg(
+            long = "run",
+            value_name = "FAMILY|LABEL|HOVER|ENVELOPE[|MEASURED]",
+            value_parser = parse_run
+        )]
+        runs: Vec<RunPaths>,
         /// The command lines that made the runs (quoted in the document).
         #[arg(long)]
         how: String,
@@ -290,14 +295,35 @@ enum CliError {
     Report(#[from] ReportError),
 }
 
-/// `FAMILY|LABEL|HOVER|ENVELOPE` of `robustness-report --run`.
-fn parse_run(s: &str) -> Result<(String, String, PathBuf, PathBuf), String> {
-    let mut parts = s.splitn(4, '|');
-    match (parts.next(), parts.next(), parts.next(), parts.next()) {
-        (Some(f), Some(l), Some(h), Some(e)) if !h.is_empty() && !e.is_empty() => {
-            Ok((f.to_string(), l.to_string(), h.into(), e.into()))
+/// `FAMILY|LABEL|HOVER|ENVELOPE[|MEASURED]` of `robustness-report --run`.
+#[derive(Clone, Debug)]
+struct RunPaths {
+    family: String,
+    label: String,
+    hover: PathBuf,
+    envelope: PathBuf,
+    envelope_measured_velocity: Option<PathBuf>,
+}
+
+fn parse_run(s: &str) -> Result<RunPaths, String> {
+    match s.split('|').collect::<Vec<_>>()[..] {
+        [family, label, hover, envelope, ref measured @ ..]
+            if !hover.is_empty() && !envelope.is_empty() && measured.len() <= 1 =>
+        {
+            Ok(RunPaths {
+                family: family.to_string(),
+                label: label.to_string(),
+                hover: hover.into(),
+                envelope: envelope.into(),
+                envelope_measured_velocity: measured
+                    .first()
+                    .filter(|m| !m.is_empty())
+                    .map(PathBuf::from),
+            })
         }
-        _ => Err(format!("expected FAMILY|LABEL|HOVER|ENVELOPE, got {s:?}")),
+        _ => Err(format!(
+            "expected FAMILY|LABEL|HOVER|ENVELOPE or FAMILY|LABEL|HOVER|ENVELOPE|MEASURED, got {s:?}"
+        )),
     }
 }
 
@@ -707,19 +733,20 @@ fn run_identify(
     Ok(())
 }
 
-fn run_robustness_report(
-    runs: &[(String, String, PathBuf, PathBuf)],
-    how: &str,
-    output: &Path,
-) -> Result<(), CliError> {
+fn run_robustness_report(runs: &[RunPaths], how: &str, output: &Path) -> Result<(), CliError> {
     let runs = runs
         .iter()
-        .map(|(family, label, hover, envelope)| {
+        .map(|r| {
             Ok(PlantRuns {
-                family: family.clone(),
-                label: label.clone(),
-                hover: read_json(hover)?,
-                envelope: read_json(envelope)?,
+                family: r.family.clone(),
+                label: r.label.clone(),
+                hover: read_json(&r.hover)?,
+                envelope: read_json(&r.envelope)?,
+                envelope_measured_velocity: r
+                    .envelope_measured_velocity
+                    .as_deref()
+                    .map(read_json)
+                    .transpose()?,
             })
         })
         .collect::<Result<Vec<_>, CliError>>()?;

@@ -19,6 +19,9 @@ pub struct PlantRuns {
     pub hover: Metrics,
     /// metrics.json of the envelope pair.
     pub envelope: Metrics,
+    /// metrics.json of the envelope pair with the rates run free on the measured velocity
+    /// (`rotorid identify --free-run-velocity measured`), if it was run.
+    pub envelope_measured_velocity: Option<Metrics>,
 }
 
 /// The flight default's and the baseline's results in one metrics file.
@@ -223,9 +226,10 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          envelope pair a free run at most {env} of extended plain's on q, r and p each, and on \
          at least two of the three velocities. The last column counts the flight default's \
          free-run windows whose state left the core's sample limits (a diverging model).\n\n\
-         Made by:\n\n```\n{how}\n```\n\n{}{}",
+         Made by:\n\n```\n{how}\n```\n\n{}{}{}",
         robustness_markdown(runs),
         second_order_section(runs),
+        measured_velocity_section(runs),
         tol = HOVER_TOLERANCE,
         env = ENVELOPE_TARGET,
     )
@@ -244,5 +248,64 @@ fn second_order_section(runs: &[PlantRuns]) -> String {
          `η Δω(k)` held at zero; docs/results.md). The term passes gyro noise on to a one-step \
          prediction and gives the rate models the rotor's fast response in a free run; below is \
          what it costs and buys on each plant.\n\n{tables}"
+    )
+}
+
+/// One family's table of the envelope free run of r as flown and with the rates run free on
+/// the measured velocity, both as ratios to extended plain's, and how many plants each is
+/// within [`ENVELOPE_TARGET`] on. Empty when no run has the measured-velocity metrics.
+pub fn measured_velocity_markdown(runs: &[PlantRuns]) -> String {
+    let mut s = String::new();
+    for family in first_seen(runs.iter().map(|r| r.family.as_str())) {
+        let mut table = String::new();
+        let (mut n, mut as_flown, mut measured) = (0, 0, 0);
+        for r in runs.iter().filter(|r| r.family == family) {
+            let Some(((ef, eb), (mf, mb))) = r
+                .envelope_measured_velocity
+                .as_ref()
+                .and_then(|m| Some((pair(&r.envelope)?, pair(m)?)))
+            else {
+                continue;
+            };
+            let [a, b] = [(ef, eb), (mf, mb)].map(|(f, b)| f.free_run[4] / b.free_run[4]);
+            table += &format!(
+                "| {} | {a:.2} {} | {b:.2} {} |\n",
+                r.label,
+                mark(a <= ENVELOPE_TARGET),
+                mark(b <= ENVELOPE_TARGET)
+            );
+            n += 1;
+            as_flown += usize::from(a <= ENVELOPE_TARGET);
+            measured += usize::from(b <= ENVELOPE_TARGET);
+        }
+        if n == 0 {
+            continue;
+        }
+        s += &format!(
+            "### {family}: envelope free run of r, as flown / on the measured velocity\n\n\
+             | plant | as flown | rates run free on the measured velocity |\n\
+             |---|---:|---:|\n{table}\n\
+             Of {n} plants, r within {ENVELOPE_TARGET} of extended plain's: {as_flown} as \
+             flown, {measured} on the measured velocity.\n\n"
+        );
+    }
+    s
+}
+
+/// The section on r and the velocity model ([`measured_velocity_markdown`]), with what it
+/// shows.
+fn measured_velocity_section(runs: &[PlantRuns]) -> String {
+    let tables = measured_velocity_markdown(runs);
+    if tables.is_empty() {
+        return tables;
+    }
+    format!(
+        "## The envelope miss on r and the velocity model\n\n\
+         The flight default's yaw model reads the side speed (`κ v` and `|v|`), so in a free \
+         run the velocity model's error becomes yaw acceleration; extended plain's reads no \
+         speed. Each envelope pair is run again with `rotorid identify --free-run-velocity \
+         measured`: the rates run free as before, on the measured velocity. The difference is \
+         what the velocity model's free-run error costs r; what is left is the yaw model's own \
+         miss and the turbulence's (docs/results.md, \"What limits the flight default\").\n\n{tables}"
     )
 }

@@ -382,6 +382,38 @@ fn end_to_end_on_a_short_flight() {
         "{}",
         text(&o.stderr)
     );
+    assert!(
+        !md.contains("## The envelope miss on r"),
+        "no measured runs given"
+    );
+    // With a fifth part (the envelope pair's run on the measured velocity): r's ratio as flown
+    // and on the measured velocity, per plant.
+    let mv = out_measured.join("metrics.json").display().to_string();
+    let o = robustness(&[format!("Fam|plant A|{m}|{m}|{mv}")]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let md = std::fs::read_to_string(dir.join("robustness.md")).expect("robustness.md");
+    let (_, section) = md
+        .split_once("## The envelope miss on r and the velocity model")
+        .unwrap_or_else(|| panic!("no measured-velocity section in:\n{md}"));
+    let r_ratio = |m: &serde_json::Value| {
+        let r = |name| by_name(m, name)["free_run"][4].as_f64().expect("r");
+        r("flight") / r("extended plain")
+    };
+    let row = section
+        .lines()
+        .find(|l| l.starts_with("| plant A |"))
+        .unwrap_or_else(|| panic!("no row in:\n{section}"));
+    let cells: Vec<f64> = row
+        .split('|')
+        .filter_map(|c| c.split_whitespace().next()?.parse().ok())
+        .collect();
+    let expected = [r_ratio(&metrics), r_ratio(&m_measured)];
+    assert_eq!(cells.len(), 2, "{row}");
+    for (cell, e) in cells.iter().zip(expected) {
+        assert!((cell - e).abs() <= 0.005, "{row}: {expected:?}");
+    }
+    let o = robustness(&[format!("Fam|plant A|{m}|{m}|{mv}|extra")]);
+    assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
