@@ -140,7 +140,7 @@ identification core is \`rotorid\` (the identifiers' code, monomorphised for the
 four identifiers: the paper pair and the flight pair) plus \`libm\` and the \`f64\` soft-float (\`sincosf\` computes in f64; \`libgcc\`'s routines,
 named \`__aeabi_d…\`, fall in the last row) and most of \`firmware_example::ident\` (the identifiers'
 instantiation and their messages). RAM: an identifier takes its \`size_of\` (\`cargo run -p rotorid --example
-memory\`: \`FlightIdentifier<f32>\` 3 044 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
+memory\`: \`FlightIdentifier<f32>\` 2 852 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
 stack of one step (the service's peak is in the memory line above).
 
 ${by_crate}

@@ -202,7 +202,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     }
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>)) {
         for rule in (0..R).filter_map(|i| self.rule(i)) {
-            f(rule.view())
+            f(rule)
         }
     }
 }

@@ -11,7 +11,8 @@
 //! `Σ_k λ^(…) ξ_i(k) (y(k) − Δ(k)ᵀθ_i)²`, the fuzzily weighted least squares of evolving TS
 //! systems (Angelov and Filev, eTS, 2004). One step of it is an ordinary RLS update of a
 //! measurement whose variance is `1/ξ_i` (the same as the regressor and target multiplied by
-//! `√ξ_i`, without the square root), so each rule reuses [`Rls`] as it is. The model
+//! `√ξ_i`, without the square root), so each rule reuses [`Rls`]'s update as it is (its
+//! learnt state without the settings, which every rule shares). The model
 //! still predicts `ŷ = Σ_i ξ_i Δᵀθ_i`. Each θ_i is then the best linear model of the data
 //! weighted by how much rule i describes them: a local linearisation, meaningful on its own.
 //!
@@ -30,8 +31,8 @@
 
 use crate::error::{Error, Quantity};
 use crate::rls::{
-    AllParameters, Compensation, Measurement, RegressorNoise, Rls, RlsConfig, RlsState,
-    TARGET_LIMIT,
+    AllParameters, Compensation, Measurement, RegressorNoise, Rls, RlsConfig, RlsCore, RlsState,
+    RlsView, TARGET_LIMIT,
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
@@ -46,10 +47,10 @@ pub const MIN_LOCAL_STRENGTH: f64 = 1e-3;
 #[derive(Clone, Debug, PartialEq)]
 pub struct LocalTsRls<T, const V: usize, const R: usize, const D: usize, const DP: usize> {
     rules: RuleBase<T, V, R>,
-    local: [Rls<T, D, DP>; R],
+    /// Each rule's θ_i, P_i and counters.
+    local: [RlsCore<T, D, DP>; R],
     scaling: Scaling<T, D>,
-    /// The settings every rule's estimator has (kept here too so that reading them needs no
-    /// rule).
+    /// The settings of every rule's estimator (one copy for all).
     config: RlsConfig<T>,
     /// What [`predict_keep`](Self::predict_keep) computed, for the update from the same
     /// premise (see [`Kept`]).
@@ -115,7 +116,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         estimator: Rls<T, D, DP>,
         unchecked: |rules, config, scaling| Self {
             rules,
-            local: core::array::from_fn(|_| Rls::new_unchecked(config)),
+            local: core::array::from_fn(|_| RlsCore::fresh(&config)),
             scaling,
             config,
             kept: Kept::none(),
@@ -127,9 +128,10 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         &self.rules
     }
 
-    /// Rule i's estimator (θ_i, P_i, counters), `None` for i ≥ R.
-    pub fn rule(&self, i: usize) -> Option<&Rls<T, D, DP>> {
-        self.local.get(i)
+    /// Rule i's estimator (θ_i, P_i, counters, and the settings every rule shares), `None`
+    /// for i ≥ R.
+    pub fn rule(&self, i: usize) -> Option<RlsView<'_, T>> {
+        Some(self.local.get(i)?.view(&self.config))
     }
 
     /// The scales.
@@ -247,12 +249,13 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         self.kept.valid = false;
         let min = T::lit(MIN_LOCAL_STRENGTH);
         let last = prepared.count.saturating_sub(1);
+        let config = &self.config;
+        let lambda = config.forgetting;
         for (&w, rls) in prepared.strengths.iter().zip(self.local.iter_mut()) {
             // Strengths are finite, in [0, 1] (the rule base makes them so).
             if w < min {
                 continue;
             }
-            let lambda = rls.config().forgetting;
             // ξ_i = 1 keeps λ_i and the variances exact (x/1 = x), so that one rule is the
             // global model.
             let lambda_i = if w == T::one() {
@@ -263,7 +266,12 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
             for (r, (row, &y)) in prepared.rows_to_learn() {
                 let e = y - combine(row, rls.parameters());
                 let l = if r == last { lambda_i } else { T::one() };
-                rls.update_row(row, AllParameters(D), Measurement::weighted(e, w, l));
+                rls.update_row(
+                    config,
+                    row,
+                    AllParameters(D),
+                    Measurement::weighted(e, w, l),
+                );
             }
         }
     }
@@ -275,7 +283,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         self.kept.valid = false;
         let mut outcome = Compensation::default();
         for rls in &mut self.local {
-            outcome.record(rls.compensate(noise));
+            outcome.record(rls.compensate(&self.config, noise));
         }
         outcome
     }
@@ -284,19 +292,19 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     pub fn reset(&mut self) {
         self.kept = Kept::none();
         for rls in &mut self.local {
-            rls.reset();
+            rls.reset(&self.config);
         }
     }
 
     /// Exports every rule's θ̃_i and covariance factor.
     pub fn export(&self) -> LocalState<T, R, D, DP> {
-        self.local.each_ref().map(Rls::export)
+        self.local.each_ref().map(|rls| rls.export(&self.config))
     }
 
     /// The checks of [`import`](Self::import), without importing.
     pub fn check_import(&self, state: &LocalState<T, R, D, DP>) -> Result<(), Error> {
-        for (rls, s) in self.local.iter().zip(state.iter()) {
-            rls.check_import(s)?;
+        for s in state {
+            RlsCore::check_import(&self.config, s)?;
         }
         Ok(())
     }
@@ -307,7 +315,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         self.check_import(state)?;
         self.kept = Kept::none();
         for (rls, s) in self.local.iter_mut().zip(state.iter()) {
-            rls.import(s)?;
+            rls.import(&self.config, s)?;
         }
         Ok(())
     }
@@ -322,7 +330,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         scaling.validate()?;
         self.kept = Kept::none();
         for rls in &mut self.local {
-            rls.reconfigure(config)?;
+            rls.reset(&config);
         }
         self.scaling = scaling;
         self.config = config;

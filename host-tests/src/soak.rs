@@ -81,10 +81,9 @@ pub struct SoakReport {
 
 /// Covariance and parameter extremes over every rule of the four models.
 fn extremes(id: &FlightIdentifier<f32>, r: &mut SoakReport) {
-    let mut visit = |rule: &rotorid::Rls<f32, 7, 28>| {
-        let d = rule.covariance_diagonal();
+    let mut visit = |rule: rotorid::rls::RlsView<'_, f32>| {
         r.max_trace = r.max_trace.max(f64::from(rule.trace()));
-        for &x in &d {
+        for x in rule.covariance_diagonal() {
             r.min_diagonal = r.min_diagonal.min(f64::from(x));
             r.max_diagonal = r.max_diagonal.max(f64::from(x));
         }

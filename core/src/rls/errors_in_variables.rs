@@ -34,7 +34,7 @@
 //! [`Rls::bias_compensated`] returns the parameters and changes nothing; [`Rls::compensate`]
 //! writes them into θ (P is kept).
 
-use super::{col, Algorithm, Rls};
+use super::{col, Algorithm, Rls, RlsConfig, RlsCore};
 use crate::scalar::Real;
 
 /// The noise of one regressor, in the estimator's (scaled) units: what
@@ -110,14 +110,34 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// Replaces θ by [`bias_compensated`](Self::bias_compensated)'s estimate (P is kept); on
     /// `Err` nothing changes.
     pub fn compensate(&mut self, noise: &RegressorNoise<T, N>) -> Result<(), NotCompensated> {
-        self.theta = self.bias_compensated(noise)?;
-        Ok(())
+        self.core.compensate(&self.config, noise)
     }
 
     /// θ with the bias of `noise` removed (see [`errors_in_variables`](super::errors_in_variables)); the estimator is not
     /// changed. With zero noise it is θ, bit for bit.
     pub fn bias_compensated(&self, noise: &RegressorNoise<T, N>) -> Result<[T; N], NotCompensated> {
-        if self.config.algorithm != Algorithm::UdFactor || noise.noisy >= N || noise.unit >= N {
+        self.core.bias_compensated(&self.config, noise)
+    }
+}
+
+impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
+    /// [`Rls::compensate`].
+    pub(crate) fn compensate(
+        &mut self,
+        config: &RlsConfig<T>,
+        noise: &RegressorNoise<T, N>,
+    ) -> Result<(), NotCompensated> {
+        self.theta = self.bias_compensated(config, noise)?;
+        Ok(())
+    }
+
+    /// [`Rls::bias_compensated`].
+    pub(crate) fn bias_compensated(
+        &self,
+        config: &RlsConfig<T>,
+        noise: &RegressorNoise<T, N>,
+    ) -> Result<[T; N], NotCompensated> {
+        if config.algorithm != Algorithm::UdFactor || noise.noisy >= N || noise.unit >= N {
             return Err(NotCompensated::Unsupported);
         }
         let finite = noise.with_target.iter().all(|s| s.is_finite());
@@ -216,7 +236,6 @@ fn ud_times<T: Real, const N: usize>(factor: &[T], v: &[T; N]) -> [T; N] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rls::RlsConfig;
 
     /// xorshift64: uniform in [−1, 1).
     struct Uniform(u64);

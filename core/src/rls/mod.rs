@@ -213,6 +213,16 @@ pub struct RlsCounters {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rls<T, const N: usize, const NP: usize> {
     config: RlsConfig<T>,
+    core: RlsCore<T, N, NP>,
+}
+
+/// What an estimator learns, without its settings: θ, the packed covariance (or U-D) factor
+/// and the counters. [`Rls`] is one of these with its [`RlsConfig`]; a
+/// [`LocalTsRls`](crate::local::LocalTsRls) keeps one per rule beside the one config that
+/// every rule shares (a copy per rule would cost 16 B each in f32). Every operation takes the
+/// settings it runs with.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RlsCore<T, const N: usize, const NP: usize> {
     theta: [T; N],
     factor: [T; NP],
     counters: RlsCounters,
@@ -262,15 +272,11 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// that a caller building a large identifier writes the arrays in place (no stack copy).
     #[inline(always)]
     pub(crate) fn new_unchecked(config: RlsConfig<T>) -> Self {
+        // Reset in place: building a fresh core and moving it in would put a copy of a large
+        // estimator on the stack.
         let mut rls = Self {
             config,
-            theta: [T::zero(); N],
-            factor: [T::zero(); NP],
-            counters: RlsCounters {
-                updates: 0,
-                windup_guards: 0,
-                numerical_skips: 0,
-            },
+            core: RlsCore::zeroed(),
         };
         rls.reset();
         rls
@@ -284,27 +290,13 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             }
         }
         let mut rls = Self::new(config)?;
-        rls.theta = theta0;
+        rls.core.theta = theta0;
         Ok(rls)
     }
 
     /// Back to θ = 0, P = αI, counters cleared.
     pub fn reset(&mut self) {
-        self.theta = [T::zero(); N];
-        let diag = self.config.initial_covariance;
-        for j in 0..N {
-            if let Some((diagonal, above)) = column_mut(&mut self.factor, j) {
-                for u in above {
-                    *u = T::zero();
-                }
-                *diagonal = diag;
-            }
-        }
-        self.counters = RlsCounters {
-            updates: 0,
-            windup_guards: 0,
-            numerical_skips: 0,
-        };
+        self.core.reset(&self.config);
     }
 
     /// The settings.
@@ -314,17 +306,17 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
 
     /// Parameter estimate θ.
     pub fn parameters(&self) -> &[T; N] {
-        &self.theta
+        &self.core.theta
     }
 
     /// Counters.
     pub fn counters(&self) -> &RlsCounters {
-        &self.counters
+        &self.core.counters
     }
 
     /// The raw packed covariance (or U-D factor) storage.
     pub fn packed_factor(&self) -> &[T; NP] {
-        &self.factor
+        &self.core.factor
     }
 
     /// Diagonal of P: the current variance of each parameter.
@@ -346,12 +338,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// A size-erased read view ([`RlsView`]): θ, the packed factor, counters and settings,
     /// for code that serves estimators of every size with one copy.
     pub fn view(&self) -> RlsView<'_, T> {
-        RlsView {
-            config: &self.config,
-            theta: &self.theta,
-            factor: &self.factor,
-            counters: &self.counters,
-        }
+        self.core.view(&self.config)
     }
 
     /// Entry `P_ij` of the covariance (`None` outside N×N). O(1) for the covariance form,
@@ -361,19 +348,20 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             return None;
         }
         let (a, b) = if i <= j { (i, j) } else { (j, i) };
+        let factor = &self.core.factor;
         match self.config.algorithm {
-            Algorithm::Covariance => self.factor.get(col(b) + a).copied(),
+            Algorithm::Covariance => factor.get(col(b) + a).copied(),
             Algorithm::UdFactor => {
                 let u = |r: usize, k: usize| -> T {
                     if r == k {
                         T::one()
                     } else {
-                        self.factor.get(col(k) + r).copied().unwrap_or_else(T::zero)
+                        factor.get(col(k) + r).copied().unwrap_or_else(T::zero)
                     }
                 };
                 let mut s = T::zero();
                 for k in b..N {
-                    let dk = self.factor.get(col(k) + k).copied().unwrap_or_else(T::zero);
+                    let dk = factor.get(col(k) + k).copied().unwrap_or_else(T::zero);
                     s += u(a, k) * dk * u(b, k);
                 }
                 Some(s)
@@ -395,7 +383,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// Prediction `ξᵀθ` for a regressor (checked like an update's regressor).
     pub fn predict(&self, regressor: &[T; N]) -> Result<T, Error> {
         check_regressor(regressor)?;
-        Ok(dot(regressor, &self.theta))
+        Ok(dot(regressor, &self.core.theta))
     }
 
     /// One scalar update with regressor ξ and target y. Returns the prior innovation
@@ -452,7 +440,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
                     Error::NonFinite(at)
                 });
             }
-            *e = y - dot(xi, &self.theta);
+            *e = y - dot(xi, &self.core.theta);
             if !within(*e, limit) {
                 return Err(Error::OutOfRange(Quantity::Target(m as u8)));
             }
@@ -471,7 +459,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             let e = if m == 0 {
                 first
             } else {
-                y - dot(xi, &self.theta)
+                y - dot(xi, &self.core.theta)
             };
             // λ once per sample: the earlier rows are plain measurement updates.
             let lambda = if m == last {
@@ -485,28 +473,19 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
 
     /// `ξᵀθ` without checks (for regressors whose entries are known to be within the limits).
     pub(crate) fn dot(&self, xi: &[T; N]) -> T {
-        dot(xi, &self.theta)
+        dot(xi, &self.core.theta)
     }
 
     /// Exports everything learnt (θ, packed factor, update count).
     pub fn export(&self) -> RlsState<T, N, NP> {
-        RlsState {
-            algorithm: self.config.algorithm,
-            theta: self.theta,
-            factor: self.factor,
-            updates: self.counters.updates,
-        }
+        self.core.export(&self.config)
     }
 
     /// Imports a state exported by an estimator of the same algorithm and size (warm start).
     /// The state is checked first ([`check_import`](Self::check_import)); on `Err` nothing
     /// changed.
     pub fn import(&mut self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
-        self.check_import(state)?;
-        self.theta = state.theta;
-        self.factor = state.factor;
-        self.counters.updates = state.updates;
-        Ok(())
+        self.core.import(&self.config, state)
     }
 
     /// The checks of [`import`](Self::import): the same algorithm, every entry finite, every
@@ -515,7 +494,116 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// invariant of that form; the covariance form in f32 may legitimately have lost
     /// definiteness).
     pub fn check_import(&self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
-        if state.algorithm != self.config.algorithm {
+        RlsCore::check_import(&self.config, state)
+    }
+
+    /// Replaces the settings and starts afresh (θ = 0, P = αI), in place. On `Err` nothing
+    /// changed.
+    pub fn reconfigure(&mut self, config: RlsConfig<T>) -> Result<(), Error> {
+        config.validate()?;
+        self.config = config;
+        self.reset();
+        Ok(())
+    }
+
+    /// One scalar update whose inputs passed the checks of `update_many` (see
+    /// [`RlsCore::update_row`]).
+    pub(crate) fn update_row<S: ParameterSupport>(
+        &mut self,
+        xi: &[T; N],
+        support: S,
+        m: Measurement<T>,
+    ) {
+        self.core.update_row(&self.config, xi, support, m);
+    }
+}
+
+impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
+    /// Every entry zero (not a valid factor: [`reset`](Self::reset) it before use).
+    #[inline(always)]
+    fn zeroed() -> Self {
+        Self {
+            theta: [T::zero(); N],
+            factor: [T::zero(); NP],
+            counters: RlsCounters {
+                updates: 0,
+                windup_guards: 0,
+                numerical_skips: 0,
+            },
+        }
+    }
+
+    /// θ = 0, P = αI, counters cleared.
+    #[inline(always)]
+    pub(crate) fn fresh(config: &RlsConfig<T>) -> Self {
+        let mut core = Self::zeroed();
+        core.reset(config);
+        core
+    }
+
+    /// Back to θ = 0, P = αI, counters cleared.
+    pub(crate) fn reset(&mut self, config: &RlsConfig<T>) {
+        self.theta = [T::zero(); N];
+        let diag = config.initial_covariance;
+        for j in 0..N {
+            if let Some((diagonal, above)) = column_mut(&mut self.factor, j) {
+                for u in above {
+                    *u = T::zero();
+                }
+                *diagonal = diag;
+            }
+        }
+        self.counters = RlsCounters {
+            updates: 0,
+            windup_guards: 0,
+            numerical_skips: 0,
+        };
+    }
+
+    /// Parameter estimate θ.
+    pub(crate) fn parameters(&self) -> &[T; N] {
+        &self.theta
+    }
+
+    /// A read view with the settings `config` ([`Rls::view`]).
+    pub(crate) fn view<'a>(&'a self, config: &'a RlsConfig<T>) -> RlsView<'a, T> {
+        RlsView {
+            config,
+            theta: &self.theta,
+            factor: &self.factor,
+            counters: &self.counters,
+        }
+    }
+
+    /// [`Rls::export`].
+    pub(crate) fn export(&self, config: &RlsConfig<T>) -> RlsState<T, N, NP> {
+        RlsState {
+            algorithm: config.algorithm,
+            theta: self.theta,
+            factor: self.factor,
+            updates: self.counters.updates,
+        }
+    }
+
+    /// [`Rls::import`].
+    pub(crate) fn import(
+        &mut self,
+        config: &RlsConfig<T>,
+        state: &RlsState<T, N, NP>,
+    ) -> Result<(), Error> {
+        Self::check_import(config, state)?;
+        self.theta = state.theta;
+        self.factor = state.factor;
+        self.counters.updates = state.updates;
+        Ok(())
+    }
+
+    /// [`Rls::check_import`].
+    pub(crate) fn check_import(
+        config: &RlsConfig<T>,
+        state: &RlsState<T, N, NP>,
+    ) -> Result<(), Error> {
+        if state.algorithm != config.algorithm {
             return Err(Error::Incompatible);
         }
         for (i, t) in state.theta.iter().enumerate() {
@@ -543,15 +631,6 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         Ok(())
     }
 
-    /// Replaces the settings and starts afresh (θ = 0, P = αI), in place. On `Err` nothing
-    /// changed.
-    pub fn reconfigure(&mut self, config: RlsConfig<T>) -> Result<(), Error> {
-        config.validate()?;
-        self.config = config;
-        self.reset();
-        Ok(())
-    }
-
     /// One scalar update whose inputs passed the checks of `update_many`.
     ///
     /// `support` lists, ascending and disjoint, the parameters outside of which every
@@ -564,6 +643,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     /// one per size).
     pub(crate) fn update_row<S: ParameterSupport>(
         &mut self,
+        config: &RlsConfig<T>,
         xi: &[T; N],
         support: S,
         m: Measurement<T>,
@@ -571,12 +651,12 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
         // Every parameter, few of them, U-D: the unrolled kernel (the same bits).
         if support.max_len() == Some(N)
             && N <= UNROLLED_UP_TO
-            && self.config.algorithm == Algorithm::UdFactor
+            && config.algorithm == Algorithm::UdFactor
         {
             ud_update_unrolled(
                 &mut self.theta,
                 &mut self.factor,
-                &self.config,
+                config,
                 &mut self.counters,
                 xi,
                 m,
@@ -608,7 +688,7 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
             }
         }
         let mut w = RlsSlices {
-            config: &self.config,
+            config,
             theta: &mut self.theta,
             factor: &mut self.factor,
             counters: &mut self.counters,

@@ -189,7 +189,7 @@ macro_rules! local_diagnostics {
             fn diagonal(&self) -> Vec<T> {
                 (0..R)
                     .filter_map(|i| self.ts().rule(i))
-                    .flat_map(|r| r.covariance_diagonal().to_vec())
+                    .flat_map(|r| r.covariance_diagonal().collect::<Vec<_>>())
                     .collect()
             }
         }

@@ -70,12 +70,14 @@ macro_rules! physical_local_impl {
                 let alpha = ts.config().initial_covariance.to_f64();
                 (0..R)
                     .flat_map(|rule| {
-                        let diag = ts.rule(rule).map(|r| r.covariance_diagonal());
+                        let view = ts.rule(rule);
                         (0..D).map(move |term| {
                             let value = ts
                                 .physical_parameter(rule, term)
                                 .map_or(f64::NAN, Real::to_f64);
-                            let p = diag.map_or(f64::NAN, |d| d[term].to_f64());
+                            let p = view
+                                .and_then(|v| v.covariance_diagonal_entry(term))
+                                .map_or(f64::NAN, Real::to_f64);
                             (value, p / alpha)
                         })
                     })
