@@ -209,6 +209,15 @@ pub struct RlsCounters {
     pub numerical_skips: u32,
 }
 
+impl RlsCounters {
+    /// Nothing counted yet.
+    const NONE: Self = Self {
+        updates: 0,
+        windup_guards: 0,
+        numerical_skips: 0,
+    };
+}
+
 /// Recursive least squares over `N` parameters with `NP = N(N+1)/2` packed covariance entries.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rls<T, const N: usize, const NP: usize> {
@@ -525,11 +534,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         Self {
             theta: [T::zero(); N],
             factor: [T::zero(); NP],
-            counters: RlsCounters {
-                updates: 0,
-                windup_guards: 0,
-                numerical_skips: 0,
-            },
+            counters: RlsCounters::NONE,
         }
     }
 
@@ -553,11 +558,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
                 *diagonal = diag;
             }
         }
-        self.counters = RlsCounters {
-            updates: 0,
-            windup_guards: 0,
-            numerical_skips: 0,
-        };
+        self.counters = RlsCounters::NONE;
     }
 
     /// Parameter estimate θ.

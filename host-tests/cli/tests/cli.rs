@@ -42,6 +42,22 @@ fn simulate(dir: &Path, kind: &str, seed: &str, duration: &str) -> PathBuf {
     out
 }
 
+/// `rotorid identify --no-plots --window 1` with `extra` options; its metrics.json.
+fn identify_metrics(train: &Path, verify: &Path, out: &Path, extra: &[&str]) -> serde_json::Value {
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--window", "1"])
+        .args(extra)
+        .arg("--train")
+        .arg(train)
+        .arg("--verify")
+        .arg(verify)
+        .arg("--out")
+        .arg(out));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).expect("metrics"))
+        .expect("json")
+}
+
 #[test]
 fn end_to_end_on_a_short_flight() {
     let dir = tmpdir("e2e");
@@ -176,20 +192,12 @@ fn end_to_end_on_a_short_flight() {
         [0, 1].map(|i| flight["compensated_rules"][i].as_u64().expect("count"));
     assert_eq!(compensated + refused, 9, "three rate models of three rules");
     assert!(compensated > 0, "{flight}");
-    let out_none = dir.join("out-none");
-    let o = run(bin()
-        .args(["identify", "--no-plots", "--gyro-noise", "none", "--train"])
-        .arg(&train)
-        .arg("--verify")
-        .arg(&verify)
-        .arg("--out")
-        .arg(&out_none)
-        .args(["--window", "1"]));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let m_none: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(out_none.join("metrics.json")).expect("metrics"),
-    )
-    .expect("json");
+    let m_none = identify_metrics(
+        &train,
+        &verify,
+        &dir.join("out-none"),
+        &["--gyro-noise", "none"],
+    );
     assert!(m_none["gyro_noise_deg_s"].is_null());
     let flight_none = &m_none["variants"][names.iter().position(|n| *n == "flight").unwrap()];
     assert_eq!(flight_none["free_run"], flight["free_run_least_squares"]);
@@ -202,25 +210,12 @@ fn end_to_end_on_a_short_flight() {
     // it, so its r's is not.
     assert_eq!(metrics["free_run_velocity"], "model");
     let out_measured = dir.join("out-measured");
-    let o = run(bin()
-        .args([
-            "identify",
-            "--no-plots",
-            "--free-run-velocity",
-            "measured",
-            "--train",
-        ])
-        .arg(&train)
-        .arg("--verify")
-        .arg(&verify)
-        .arg("--out")
-        .arg(&out_measured)
-        .args(["--window", "1"]));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let m_measured: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(out_measured.join("metrics.json")).expect("metrics"),
-    )
-    .expect("json");
+    let m_measured = identify_metrics(
+        &train,
+        &verify,
+        &out_measured,
+        &["--free-run-velocity", "measured"],
+    );
     assert_eq!(m_measured["free_run_velocity"], "measured");
     let by_name = |m: &serde_json::Value, name: &str| {
         m["variants"]
