@@ -37,9 +37,9 @@ pub const ROTORID_KIND_EXTENDED_LOCAL: u32 = 8;
 pub const ROTORID_STORAGE_ALIGN: usize = 8;
 
 /// Storage bytes of `ROTORID_KIND_FLIGHT`.
-pub const ROTORID_FLIGHT_STORAGE_SIZE: usize = 2872;
+pub const ROTORID_FLIGHT_STORAGE_SIZE: usize = 2984;
 /// Storage bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
-pub const ROTORID_FLIGHT_PLAIN_STORAGE_SIZE: usize = 1624;
+pub const ROTORID_FLIGHT_PLAIN_STORAGE_SIZE: usize = 1664;
 /// Storage bytes of `ROTORID_KIND_PAPER_FUZZY`.
 pub const ROTORID_PAPER_FUZZY_STORAGE_SIZE: usize = 11280;
 /// Storage bytes of `ROTORID_KIND_PAPER_PLAIN`.
@@ -54,9 +54,9 @@ pub const ROTORID_PAPER_LOCAL_STORAGE_SIZE: usize = 3104;
 pub const ROTORID_EXTENDED_LOCAL_STORAGE_SIZE: usize = 4872;
 
 /// Export bytes of `ROTORID_KIND_FLIGHT`.
-pub const ROTORID_FLIGHT_EXPORT_SIZE: usize = 1788;
+pub const ROTORID_FLIGHT_EXPORT_SIZE: usize = 1896;
 /// Export bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
-pub const ROTORID_FLIGHT_PLAIN_EXPORT_SIZE: usize = 604;
+pub const ROTORID_FLIGHT_PLAIN_EXPORT_SIZE: usize = 640;
 /// Export bytes of `ROTORID_KIND_PAPER_FUZZY`.
 pub const ROTORID_PAPER_FUZZY_EXPORT_SIZE: usize = 10520;
 /// Export bytes of `ROTORID_KIND_PAPER_PLAIN`.

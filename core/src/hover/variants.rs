@@ -82,10 +82,10 @@ pub type ExtendedLocalIdentifier<T> = HoverIdentifier<
 /// Why (docs/results.md has the evidence): a helicopter's rate and velocity dynamics change
 /// mainly with airspeed, so that is what the rules are scheduled on; local learning makes
 /// each rule a local linear model that stays sane where it is rarely visited; three rules of
-/// 7 and 5 terms keep the step cheap and the identifier small (f32: under 3 KiB).
+/// 8 (velocity) and 7 (rates) terms keep the step cheap and the identifier small (f32: under 3 KiB).
 pub type FlightIdentifier<T> = HoverIdentifier<
     T,
-    LocalVelocityModel<T, 3, 7, 28>,
+    LocalVelocityModel<T, 3, 8, 36>,
     LocalRateModel<T, 3, 7, 28>,
     LocalRateModel<T, 3, 7, 28>,
     LocalRateModel<T, 3, 7, 28>,
@@ -95,7 +95,7 @@ pub type FlightIdentifier<T> = HoverIdentifier<
 /// global one, bit for bit): the baseline that shows what the rules themselves add.
 pub type FlightPlainIdentifier<T> = HoverIdentifier<
     T,
-    LocalVelocityModel<T, 1, 7, 28>,
+    LocalVelocityModel<T, 1, 8, 36>,
     LocalRateModel<T, 1, 7, 28>,
     LocalRateModel<T, 1, 7, 28>,
     LocalRateModel<T, 1, 7, 28>,

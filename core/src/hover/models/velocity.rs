@@ -28,11 +28,22 @@ pub enum VelocityStructure {
     /// with the heading (an affine term fixed in the body frame, not the inertial one). `D = 7`.
     Extended,
     /// [`Extended`](Self::Extended) with the horizontal drag in the aircraft's heading frame
-    /// instead of the inertial axes, on the velocity of the sample before:
-    /// `[α1, α2, d_f, d_r, d_u, σ0, σ1]` with `… + d_f u_f(k−1) f + d_r u_r(k−1) r +
-    /// d_u v_y(k) e2 + …`, where `f` and `r` are the heading's forward and right unit vectors
-    /// at sample k and `u_f`, `u_r` the velocity along them (m/s).
+    /// instead of the inertial axes, on the velocity of the sample before, and the main
+    /// rotor's thrust affine in the collective: `[α1, α2, d_f, d_r, d_u, σ0, σ1, α0]` with
+    /// `v̂(k+1) = v + (α1 u_col + α0) R e2 + α2 e2 + d_f u_f(k−1) f + d_r u_r(k−1) r +
+    /// d_u v_y(k) e2 + (σ0 + σ1 u_ped) R e1`, where `f` and `r` are the heading's forward and
+    /// right unit vectors at sample k and `u_f`, `u_r` the velocity along them (m/s).
     ///
+    /// * Affine thrust `(α1 u_col + α0) R e2`: Eq. 13's `T_M = K_M u_col` makes the thrust
+    ///   zero at zero stick, but a rotor's thrust is zero at its zero-lift blade pitch, which a
+    ///   stick mapping need not put at zero, and the induced inflow, which grows with the
+    ///   thrust, makes the thrust's slope in the collective (what a climb responds with)
+    ///   differ from its ratio to the collective at trim (what tilting the disc turns into
+    ///   horizontal acceleration, `≈ g` per radian at hover). With `α1` alone the two compete
+    ///   for one parameter and every tilt is over- or under-predicted; `α0` is the thrust at
+    ///   zero collective, along the rotor axis like the rest of it (the tail rotor's side
+    ///   force has its constant `σ0` for the same reason). The weight `α2 e2` stays: gravity
+    ///   is vertical whatever the attitude.
     /// * Heading frame: a fuselage's drag differs along and across it; in inertial axes those
     ///   two mix as the heading turns, so that one set of `d_x, d_z` fits only one heading.
     /// * Sample k−1: the measurement noise of `v(k)` is in the target `Δv = v(k+1) − v(k)` too,
@@ -50,7 +61,7 @@ pub enum VelocityStructure {
     ///   (`core/tests/extended.rs` measures both). The structure needs the sample before: see
     ///   [`StateModel::prepare_in`].
     ///
-    /// `D = 7`.
+    /// `D = 8`.
     Flight,
 }
 
@@ -59,17 +70,19 @@ impl VelocityStructure {
     pub const fn terms(self) -> usize {
         match self {
             Self::Paper => 2,
-            Self::Extended | Self::Flight => 7,
+            Self::Extended => 7,
+            Self::Flight => 8,
         }
     }
 
     /// Nominal scales for a miniature helicopter at 50 Hz (see [`Scaling`]): thrust term
-    /// `e·u_col` 0.5, constants and axes 1, velocities 1 m/s, `u_ped` terms 0.3; target `Δv`
-    /// 0.05 m/s per step.
+    /// `e·u_col` 0.5, constants and axes 1 (the flight structure's `R e2` of `α0` too),
+    /// velocities 1 m/s, `u_ped` terms 0.3; target `Δv` 0.05 m/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
         let nominal: &[f64] = match self {
             Self::Paper => &[0.5, 1.0],
-            Self::Extended | Self::Flight => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
+            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
+            Self::Flight => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3, 1.0],
         };
         let mut terms = [T::one(); D];
         for (t, &n) in terms.iter_mut().zip(nominal) {
@@ -212,9 +225,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
             if let Some(x) = t.get_mut(0) {
                 *x = ei * s.controls.col;
             }
-            // Slots [α1, α2, d_x, d_y, d_z, σ0, σ1]: α2 only in v_y, each drag in its own
-            // output (the flight structure: forward and right drag in x and z, vertical in
-            // y), the side force in all three.
+            // Slots [α1, α2, d_x, d_y, d_z, σ0, σ1] (the flight structure: then α0): α2 only
+            // in v_y, each drag in its own output (the flight structure: forward and right
+            // drag in x and z, vertical in y), the side force and α0's thrust in all three.
             let mut set = |slot: usize, value: T| {
                 if let Some(x) = t.get_mut(slot) {
                     *x = value;
@@ -237,6 +250,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
                     set(4, if out == 1 { v } else { T::zero() });
                     set(5, si);
                     set(6, si * s.controls.ped);
+                    set(7, ei);
                 }
             }
         }

@@ -429,9 +429,9 @@ pub fn variants() -> Vec<Variant> {
             },
         },
         Variant {
-            name: "flight inertial drag",
-            description: "the flight default with the drag in inertial axes (VelocityStructure::Extended) instead of the heading frame: what the heading-frame drag adds",
-            build: |_| Ok(Box::new(flight_with_inertial_drag()?)),
+            name: "flight extended velocity",
+            description: "the flight default with the extended structure's translational model (VelocityStructure::Extended: drag in inertial axes on the sample's own velocity, thrust proportional to the collective): what the flight structure's translational terms add",
+            build: |_| Ok(Box::new(flight_with_extended_velocity()?)),
         },
         Variant {
             name: "flight first-order rates",
@@ -456,10 +456,21 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
-/// [`FlightIdentifier`] whose translational model has the extended structure's drag (per
-/// inertial axis) instead of the flight structure's (along and across the heading); the same
-/// premise, sets, rate models and settings.
-fn flight_with_inertial_drag() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+/// [`FlightIdentifier`] with the extended structure's translational model (7 terms; see
+/// [`flight_with_extended_velocity`]).
+type ExtendedVelocityIdentifier = HoverIdentifier<
+    f32,
+    LocalVelocityModel<f32, 3, 7, 28>,
+    LocalRateModel<f32, 3, 7, 28>,
+    LocalRateModel<f32, 3, 7, 28>,
+    LocalRateModel<f32, 3, 7, 28>,
+>;
+
+/// [`FlightIdentifier`] whose translational model has the extended structure
+/// (`VelocityStructure::Extended`: drag per inertial axis, thrust proportional to the
+/// collective) instead of the flight structure (drag along and across the heading, thrust
+/// affine in the collective); the same premise, sets, rate models and settings.
+fn flight_with_extended_velocity() -> Result<ExtendedVelocityIdentifier, rotorid::Error> {
     let config = HoverConfig::default();
     let flight = FlightIdentifier::<f32>::flight(config, flight_sets())?;
     let structure = VelocityStructure::Extended;
@@ -505,7 +516,7 @@ fn flight_with_first_order_rates() -> Result<FlightIdentifier<f32>, rotorid::Err
 /// [`FlightIdentifier`] with a 9-rule yaw model (see [`flight_with_side_speed_yaw`]).
 type SideSpeedYawIdentifier = HoverIdentifier<
     f32,
-    LocalVelocityModel<f32, 3, 7, 28>,
+    LocalVelocityModel<f32, 3, 8, 36>,
     LocalRateModel<f32, 3, 7, 28>,
     LocalRateModel<f32, 9, 7, 28>,
     LocalRateModel<f32, 3, 7, 28>,
