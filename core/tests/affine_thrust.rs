@@ -20,7 +20,11 @@ fn flight_log(samples: u64) -> Vec<HoverSample<f32>> {
     let mut log = Vec::new();
     for k in 0..samples {
         let t = k as f64 * DT;
-        let (roll, pitch, yaw) = (0.1 * (0.7 * t).sin(), 0.08 * (1.1 * t).cos(), 2.5 * (0.2 * t).sin());
+        let (roll, pitch, yaw) = (
+            0.1 * (0.7 * t).sin(),
+            0.08 * (1.1 * t).cos(),
+            2.5 * (0.2 * t).sin(),
+        );
         let col = TRIM + 0.04 * (0.5 * t).sin() + 0.02 * (2.3 * t).cos();
         let sample = HoverSample {
             time_us: 1_000_000 + k * 20_000,

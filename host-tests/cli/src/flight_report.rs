@@ -226,6 +226,7 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
         mark(w2 <= HOVER_TOLERANCE)
     );
     s += &first_order_rates(hover, envelope, [&hf, &hb, &ef, &eb]);
+    s += &proportional_thrust(hover, envelope, [&hf, &hb, &ef, &eb]);
     let r: Vec<f64> = (0..6).map(|i| ef.free_run[i] / eb.free_run[i]).collect();
     let rates_ok = r[3..].iter().all(|&x| x <= ENVELOPE_TARGET);
     let velocities = r[..3].iter().filter(|&&x| x <= ENVELOPE_TARGET).count();
@@ -278,6 +279,42 @@ fn first_order_rates(
         rates(&e1, eb),
         rates(hf, hb),
         rates(ef, eb),
+    )
+}
+
+/// The variant whose translational model's thrust is proportional to the collective.
+pub(crate) const PROPORTIONAL_THRUST: &str = "flight proportional thrust";
+
+/// A criteria line on [`PROPORTIONAL_THRUST`]: its free-run ratios on every state in hover and
+/// on the envelope, beside the flight default's (empty without that variant).
+fn proportional_thrust(
+    hover: &Metrics,
+    envelope: &Metrics,
+    [hf, hb, ef, eb]: [&VariantResult; 4],
+) -> String {
+    let find = |m: &Metrics| {
+        m.variants
+            .iter()
+            .find(|v| v.name == PROPORTIONAL_THRUST)
+            .cloned()
+    };
+    let (Some(h1), Some(e1)) = (find(hover), find(envelope)) else {
+        return String::new();
+    };
+    let all = |v: &VariantResult, b: &VariantResult| {
+        let r: Vec<String> = (0..6)
+            .map(|i| format!("{:.2}", v.free_run[i] / b.free_run[i]))
+            .collect();
+        r.join(", ")
+    };
+    format!(
+        "* With the thrust proportional to the collective (`{PROPORTIONAL_THRUST}`, no `α0`): \
+         free run on v_x, v_y, v_z, q, r, p {} in hover and {} on the envelope (the flight \
+         default: {} and {})\n",
+        all(&h1, hb),
+        all(&e1, eb),
+        all(hf, hb),
+        all(ef, eb),
     )
 }
 

@@ -219,7 +219,12 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          plants; for that choice they are development data, not unseen helicopters. So are \
          they for the yaw model's term even in the side speed (`|v|` in place of the \
          gyroscopic product, `RateStructure::Flight`), adopted after a trial on these 26 \
-         plants.\n\n\
+         plants, and for the thrust affine in the collective (`α0`, \
+         `VelocityStructure::Flight`): that term was derived from the rotor's physics, but this \
+         report was run with it before it was adopted (four forms were tried on the two \
+         airframes; the one kept states the physics whole, the thrust at zero collective \
+         along the rotor axis in all three outputs beside a learnt weight, and it was not \
+         changed after this run).\n\n\
          Columns: the flight default's error as a ratio to extended plain's (below 1 is \
          better), against issue 11's criteria: on the hover pair at most {tol} on every state, \
          free run (2 s windows) and one step (θ frozen), shown as the worst state; on the \

@@ -439,6 +439,11 @@ pub fn variants() -> Vec<Variant> {
             build: |_| Ok(Box::new(flight_with_first_order_rates()?)),
         },
         Variant {
+            name: "flight proportional thrust",
+            description: "the flight default with the translational model's thrust at zero collective held at zero (each rule's α0 pinned by a zero prior variance): the thrust proportional to the collective, as in Eq. 27; what the affine thrust buys",
+            build: |_| Ok(Box::new(flight_with_proportional_thrust()?)),
+        },
+        Variant {
             name: "flight yaw on side speed",
             description: "the flight default with its yaw model scheduled on forward and side speed (3 x 3 rules; side sets at -5, 0, 5 m/s, σ 2.5): whether the yaw trim in sideways flight is a matter of scheduling",
             build: |_| Ok(Box::new(flight_with_side_speed_yaw()?)),
@@ -491,26 +496,45 @@ fn flight_with_extended_velocity() -> Result<ExtendedVelocityIdentifier, rotorid
 }
 
 /// [`FlightIdentifier`] whose rate models learn without their second-order term `η Δω(k)`
-/// (index 6 of [`RateStructure::Flight`]'s terms): before training, each rule's prior variance
-/// of η is set to zero (the U-D factor's `D_6`; U is still the identity, so nothing else
-/// changes). A parameter with zero variance gets zero gain, so η stays exactly 0 and least
-/// squares fits the other six terms as if it were absent; its covariance with them stays zero,
-/// so the gyro-noise compensation leaves it at 0 too. Everything else is the flight default's.
+/// (index 6 of [`RateStructure::Flight`]'s terms; see [`pin_to_zero`]). Everything else is the
+/// flight default's.
 fn flight_with_first_order_rates() -> Result<FlightIdentifier<f32>, rotorid::Error> {
     const SECOND_ORDER: usize = 6;
-    // Packed upper triangle, column by column: entry (i, k) at k(k + 1)/2 + i.
-    const DIAGONAL: usize = SECOND_ORDER * (SECOND_ORDER + 1) / 2 + SECOND_ORDER;
     let mut flight = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
     let mut snapshot = flight.export();
     for model in [&mut snapshot.pitch, &mut snapshot.yaw, &mut snapshot.roll] {
-        for rule in model.iter_mut() {
-            if let Some(d) = rule.factor.get_mut(DIAGONAL) {
-                *d = 0.0;
-            }
-        }
+        pin_to_zero(model, SECOND_ORDER);
     }
     flight.import(&snapshot)?;
     Ok(flight)
+}
+
+/// [`FlightIdentifier`] whose translational model learns without the thrust at zero
+/// collective `α0` (index 7 of [`VelocityStructure::Flight`]'s terms; see [`pin_to_zero`]): the
+/// thrust proportional to the collective, as in Eq. 27. Everything else is the flight
+/// default's.
+fn flight_with_proportional_thrust() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    const AFFINE_THRUST: usize = 7;
+    let mut flight = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
+    let mut snapshot = flight.export();
+    pin_to_zero(&mut snapshot.velocity, AFFINE_THRUST);
+    flight.import(&snapshot)?;
+    Ok(flight)
+}
+
+/// Sets each untrained rule's prior variance of parameter `term` to zero (the U-D factor's
+/// `D_term`; U is still the identity, so nothing else changes). A parameter with zero variance
+/// gets zero gain, so it stays exactly 0 and least squares fits the other terms as if it were
+/// absent; its covariance with them stays zero, so the gyro-noise compensation leaves it at 0
+/// too.
+fn pin_to_zero<const D: usize, const DP: usize>(rules: &mut [RlsState<f32, D, DP>], term: usize) {
+    // Packed upper triangle, column by column: entry (i, k) at k(k + 1)/2 + i.
+    let diagonal = term * (term + 1) / 2 + term;
+    for rule in rules {
+        if let Some(d) = rule.factor.get_mut(diagonal) {
+            *d = 0.0;
+        }
+    }
 }
 
 /// [`FlightIdentifier`] with a 9-rule yaw model (see [`flight_with_side_speed_yaw`]).
