@@ -2,6 +2,7 @@
 //! model on the hover and the envelope flights, and the local derivatives the flight
 //! identifier's rules learnt in each speed region beside the plant's own.
 
+use std::ops::Range;
 use std::path::Path;
 
 use rotorid::hover::{RateAxis, RateStructure, VelocityStructure};
@@ -200,13 +201,26 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
 /// The flight default's and the baseline's results: hover flight, hover baseline, envelope
 /// flight, envelope baseline.
 fn flight_and_baseline(hover: &Metrics, envelope: &Metrics) -> Option<[VariantResult; 4]> {
-    let find = |m: &Metrics, n: &str| m.variants.iter().find(|v| v.name == n).cloned();
     Some([
-        find(hover, FLIGHT)?,
-        find(hover, BASELINE)?,
-        find(envelope, FLIGHT)?,
-        find(envelope, BASELINE)?,
+        variant(hover, FLIGHT)?,
+        variant(hover, BASELINE)?,
+        variant(envelope, FLIGHT)?,
+        variant(envelope, BASELINE)?,
     ])
+}
+
+/// The results of the variant called `name`, if it was run.
+fn variant(m: &Metrics, name: &str) -> Option<VariantResult> {
+    m.variants.iter().find(|v| v.name == name).cloned()
+}
+
+/// `v`'s free-run error as ratios to `b`'s on `states` (indices into `[v_x v_y v_z q r p]`),
+/// e.g. "0.30, 0.60, 0.59".
+fn free_run_ratios(v: &VariantResult, b: &VariantResult, states: Range<usize>) -> String {
+    let r: Vec<String> = states
+        .map(|i| format!("{:.2}", v.free_run[i] / b.free_run[i]))
+        .collect();
+    r.join(", ")
 }
 
 /// The criteria of the flight default, checked on the metrics.
@@ -257,19 +271,13 @@ fn first_order_rates(
     envelope: &Metrics,
     [hf, hb, ef, eb]: [&VariantResult; 4],
 ) -> String {
-    let find = |m: &Metrics| {
-        m.variants
-            .iter()
-            .find(|v| v.name == FIRST_ORDER_RATES)
-            .cloned()
-    };
-    let (Some(h1), Some(e1)) = (find(hover), find(envelope)) else {
+    let (Some(h1), Some(e1)) = (
+        variant(hover, FIRST_ORDER_RATES),
+        variant(envelope, FIRST_ORDER_RATES),
+    ) else {
         return String::new();
     };
-    let rates = |v: &VariantResult, b: &VariantResult| {
-        let r = |i: usize| v.free_run[i] / b.free_run[i];
-        format!("{:.2}, {:.2}, {:.2}", r(3), r(4), r(5))
-    };
+    let rates = |v: &VariantResult, b: &VariantResult| free_run_ratios(v, b, 3..6);
     let (w, l) = worst_ratio(&h1.one_step, &hb.one_step);
     format!(
         "* Without the rate models' second-order term (`{FIRST_ORDER_RATES}`): hover one step, \
@@ -292,21 +300,13 @@ fn proportional_thrust(
     envelope: &Metrics,
     [hf, hb, ef, eb]: [&VariantResult; 4],
 ) -> String {
-    let find = |m: &Metrics| {
-        m.variants
-            .iter()
-            .find(|v| v.name == PROPORTIONAL_THRUST)
-            .cloned()
-    };
-    let (Some(h1), Some(e1)) = (find(hover), find(envelope)) else {
+    let (Some(h1), Some(e1)) = (
+        variant(hover, PROPORTIONAL_THRUST),
+        variant(envelope, PROPORTIONAL_THRUST),
+    ) else {
         return String::new();
     };
-    let all = |v: &VariantResult, b: &VariantResult| {
-        let r: Vec<String> = (0..6)
-            .map(|i| format!("{:.2}", v.free_run[i] / b.free_run[i]))
-            .collect();
-        r.join(", ")
-    };
+    let all = |v: &VariantResult, b: &VariantResult| free_run_ratios(v, b, 0..6);
     format!(
         "* With the thrust proportional to the collective (`{PROPORTIONAL_THRUST}`, no `α0`): \
          free run on v_x, v_y, v_z, q, r, p {} in hover and {} on the envelope (the flight \
