@@ -77,6 +77,13 @@ pub enum ConfigError {
     Sweep,
     /// A regressor scale is not finite and > 0.
     Scale,
+    /// An observer gain is not finite and in [0, 1]
+    /// ([`Observer`](crate::hover::Observer)).
+    ObserverGain {
+        /// The gain's state in `[v_x v_y v_z q r p]` (0–5), or the candidate's number in a
+        /// [`GainSearch`](crate::hover::GainSearch).
+        index: u8,
+    },
 }
 
 /// The error of every fallible call in the core.
@@ -146,6 +153,9 @@ impl fmt::Display for ConfigError {
             ConfigError::SamplePeriod => f.write_str("sample period or tolerance out of range"),
             ConfigError::Sweep => f.write_str("sweep parameters out of range"),
             ConfigError::Scale => f.write_str("regressor scales must be finite and > 0"),
+            ConfigError::ObserverGain { index } => {
+                write!(f, "observer gain {index} must be finite and in [0, 1]")
+            }
         }
     }
 }

@@ -368,7 +368,7 @@ where
         if self.timing.chained {
             let prev = self.chain.sample();
             let frame = &self.chain.frame;
-            self.check_interval(&prev, sample)?;
+            self.check_interval(prev.time_us, sample.time_us)?;
             let b = self.chain.before.state_before(&prev);
             // Check all four models before changing any.
             let v = self.velocity.prepare_in(&prev, frame, &b, sample)?;
@@ -610,11 +610,13 @@ where
         Ok(())
     }
 
-    fn check_interval(&self, prev: &HoverSample<T>, next: &HoverSample<T>) -> Result<(), Error> {
-        if next.time_us <= prev.time_us {
+    /// Whether a sample at `next_us` follows one at `prev_us` (µs) at the sample period, within
+    /// its tolerance.
+    pub(super) fn check_interval(&self, prev_us: u64, next_us: u64) -> Result<(), Error> {
+        if next_us <= prev_us {
             return Err(Error::NonMonotonicTime);
         }
-        let dt = next.time_us - prev.time_us;
+        let dt = next_us - prev_us;
         let nominal = u64::from(self.timing.sample_period_us);
         let tol = u64::from(self.timing.period_tolerance_us);
         let (min, max) = (nominal - tol, nominal + tol);

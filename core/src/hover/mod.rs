@@ -19,6 +19,7 @@ mod config;
 mod identifier;
 mod models;
 mod noise;
+mod observer;
 mod sample;
 pub mod table3;
 mod variants;
@@ -30,6 +31,7 @@ pub use models::{
     SharedStrengths, StateModel, VelocityModel, VelocityStructure,
 };
 pub use noise::RateNoise;
+pub use observer::{GainSearch, Observer};
 pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,

@@ -56,6 +56,14 @@ impl<T: Real> HoverState<T> {
         let [q, r, p] = self.rates;
         [a, b, c, q, r, p]
     }
+
+    /// From `[v_x v_y v_z q r p]`.
+    pub fn from_array([a, b, c, q, r, p]: [T; 6]) -> Self {
+        Self {
+            velocity: [a, b, c],
+            rates: [q, r, p],
+        }
+    }
 }
 
 /// A field of a [`HoverSample`], as an error names it ([`Quantity::Sample`]).

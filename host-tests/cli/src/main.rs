@@ -145,6 +145,12 @@ enum Command {
         /// velocities' free-run errors are then zero).
         #[arg(long, value_enum, default_value_t = FreeRunVelocityArg::Model)]
         free_run_velocity: FreeRunVelocityArg,
+        /// Gain K of every variant's one-step observer (`rotorid::hover::Observer`; 0 to 1,
+        /// 1 predicts from the measured state): `auto` finds each variant's on the training
+        /// logs (`GainSearch`, 0.1 to 1 in steps of 0.1), one value is every state's, six
+        /// (`VX,VY,VZ,Q,R,P`) are each state's.
+        #[arg(long, default_value = "auto", value_parser = parse_observer_gain)]
+        observer_gain: ObserverGainArg,
     },
     /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
     /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
@@ -387,6 +393,7 @@ fn main() -> ExitCode {
             warm_start,
             gyro_noise,
             free_run_velocity,
+            observer_gain,
         } => run_identify(
             &train,
             &verify,
@@ -397,6 +404,7 @@ fn main() -> ExitCode {
             warm_start.as_deref(),
             gyro_noise,
             free_run_velocity.into(),
+            observer_gain,
         ),
         Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report(args) => run_report(&args),
@@ -603,6 +611,37 @@ fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
     }
 }
 
+/// `--observer-gain`: the one-step observer's gain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ObserverGainArg {
+    /// Found on the training logs, per variant.
+    Auto,
+    /// K of `[v_x v_y v_z q r p]`.
+    Given([f32; 6]),
+}
+
+fn parse_observer_gain(text: &str) -> Result<ObserverGainArg, String> {
+    if text == "auto" {
+        return Ok(ObserverGainArg::Auto);
+    }
+    let values = text
+        .split(',')
+        .map(|v| match v.trim().parse::<f32>() {
+            Ok(k) if (0.0..=1.0).contains(&k) => Ok(k),
+            _ => Err(format!(
+                "`{v}` is not an observer gain (0 to 1); expected auto, K or VX,VY,VZ,Q,R,P"
+            )),
+        })
+        .collect::<Result<Vec<f32>, String>>()?;
+    match values[..] {
+        [k] => Ok(ObserverGainArg::Given([k; 6])),
+        [a, b, c, q, r, p] => Ok(ObserverGainArg::Given([a, b, c, q, r, p])),
+        _ => Err(format!(
+            "`{text}`: one observer gain or six (VX,VY,VZ,Q,R,P) expected, or auto"
+        )),
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run_identify(
     train: &[PathBuf],
@@ -614,6 +653,7 @@ fn run_identify(
     warm_start: Option<&Path>,
     gyro_noise: GyroNoise,
     free_run_velocity: experiments::FreeRunVelocity,
+    observer_gain: ObserverGainArg,
 ) -> Result<(), CliError> {
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(CliError::Window(window));
@@ -661,16 +701,20 @@ fn run_identify(
         bar.set_message(v.name);
         let warm = if i == 0 { warm.as_deref() } else { None };
         let mut tick = || bar.inc(1);
-        let free_runs = experiments::FreeRunSettings {
+        let settings = experiments::EvaluationSettings {
             window_s: window,
             gyro_noise,
             velocity: free_run_velocity,
+            observer_gain: match observer_gain {
+                ObserverGainArg::Auto => None,
+                ObserverGainArg::Given(gain) => Some(gain),
+            },
         };
         results.push(experiments::evaluate(
             v,
             &training,
             &verification,
-            free_runs,
+            settings,
             warm,
             &mut tick,
         )?);

@@ -122,6 +122,28 @@ fn end_to_end_on_a_short_flight() {
         }
         assert_eq!(v["training"]["samples"], 600);
         assert_eq!(v["training"]["updates"], 599);
+        // Every variant's one step through its observer, whose gain per state is one of the
+        // search's candidates 0.1 … 1.0, found on the training log.
+        let observed = v["one_step_observed"]
+            .as_array()
+            .expect("one_step_observed");
+        assert!(observed
+            .iter()
+            .all(|x| x.as_f64().is_some_and(|x| x.is_finite() && x > 0.0)));
+        let gain: Vec<f64> = v["observer_gain"]
+            .as_array()
+            .expect("observer_gain")
+            .iter()
+            .map(|k| k.as_f64().expect("gain"))
+            .collect();
+        assert_eq!(gain.len(), 6);
+        for k in &gain {
+            let tenths = k * 10.0;
+            assert!(
+                (1.0..=10.0).contains(&tenths) && (tenths - tenths.round()).abs() < 1e-5,
+                "{gain:?}"
+            );
+        }
     }
     // Table 4's improvement is computed from the two columns.
     let t = &metrics["table4"];
@@ -192,13 +214,33 @@ fn end_to_end_on_a_short_flight() {
         [0, 1].map(|i| flight["compensated_rules"][i].as_u64().expect("count"));
     assert_eq!(compensated + refused, 9, "three rate models of three rules");
     assert!(compensated > 0, "{flight}");
+    // Without compensation and with the observer's gain 1 on every state
+    // (`--observer-gain 1`), every variant's observer predicts from the measured state with
+    // the least-squares parameters: its one step is the frozen one step, to the last bit.
     let m_none = identify_metrics(
         &train,
         &verify,
         &dir.join("out-none"),
-        &["--gyro-noise", "none"],
+        &["--gyro-noise", "none", "--observer-gain", "1"],
     );
     assert!(m_none["gyro_noise_deg_s"].is_null());
+    for v in m_none["variants"].as_array().expect("variants") {
+        assert_eq!(v["observer_gain"], serde_json::json!([1.0f32; 6].to_vec()));
+        assert_eq!(v["one_step_observed"], v["one_step"], "{}", v["name"]);
+    }
+    for bad in ["1.5", "-0.1", "0.5,0.5", "x"] {
+        let o = run(bin()
+            .args(["identify", &format!("--observer-gain={bad}"), "--train"])
+            .arg(&train)
+            .arg("--verify")
+            .arg(&verify));
+        assert!(!o.status.success());
+        assert!(
+            text(&o.stderr).contains("observer gain"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
     let flight_none = &m_none["variants"][names.iter().position(|n| *n == "flight").unwrap()];
     assert_eq!(flight_none["free_run"], flight["free_run_least_squares"]);
     assert_ne!(flight_none["free_run"], flight["free_run"]);

@@ -23,7 +23,7 @@ use rotorid::HoverState;
 use rotorid_cli::error_chain::Chain;
 use rotorid_cli::experiments::{
     evaluate, format_table4, gyro_noise_of, mean_abs_errors, variants, EvaluateError,
-    FreeRunSettings, FreeRunVelocity,
+    EvaluationSettings, FreeRunVelocity,
 };
 use rotorid_link::msg::{Estimate, Ident, IdentPair, RlsForm, SampleMode, SampleMsg};
 use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
@@ -316,16 +316,17 @@ fn run() -> Result<(), DemoError> {
             .into_iter()
             .find(|v| v.name == name)
             .ok_or(DemoError::NoVariant(name))?;
-        let free_runs = FreeRunSettings {
+        let settings = EvaluationSettings {
             window_s: FREE_RUN_S,
             gyro_noise,
             velocity: FreeRunVelocity::Model,
+            observer_gain: None,
         };
         host.push(evaluate(
             &v,
             std::slice::from_ref(&id),
             &ver,
-            free_runs,
+            settings,
             None,
             &mut || {},
         )?);

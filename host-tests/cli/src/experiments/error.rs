@@ -85,4 +85,13 @@ pub enum EvaluateError {
         #[source]
         source: rotorid::Error,
     },
+    /// The observer's gain was refused (not finite, or outside [0, 1]).
+    #[error("{variant}: cannot build the one-step observer")]
+    Observer {
+        /// The variant's name.
+        variant: &'static str,
+        /// The core's reason.
+        #[source]
+        source: rotorid::Error,
+    },
 }

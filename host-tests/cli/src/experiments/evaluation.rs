@@ -2,14 +2,14 @@
 //! free-run errors, convergence, timing.
 
 use rotorid::convergence::ConvergenceMonitor;
-use rotorid::hover::{HoverSample, HoverState, RateNoise};
+use rotorid::hover::{HoverSample, HoverState, Observer, RateNoise};
 use serde::{Deserialize, Serialize};
 
 use rotorid_sim::flights::SAMPLE_RATE_HZ;
 
 use super::error::EvaluateError;
 use super::regimes::{one_step_bias, RegimeBias};
-use super::variants::{Identifier, ModelParameters, Variant};
+use super::variants::{Identifier, ModelParameters, ObserverSearch, Variant};
 
 /// Index of the fuzzy (first) and plain (second) Table 4 columns in [`variants`](fn@super::variants).
 pub const TABLE4_VARIANTS: (usize, usize) = (0, 1);
@@ -167,6 +167,18 @@ pub struct VariantResult {
     /// as they were.
     #[serde(default)]
     pub compensated_rules: [u16; 2],
+    /// The gain `K` per state of the variant's one-step observer
+    /// ([`rotorid::hover::Observer`]), found on the training logs ([`observer_gain`]) with the
+    /// free run's parameters.
+    #[serde(default)]
+    pub observer_gain: [f32; 6],
+    /// One-step predictions through that observer over the verification log (θ frozen, the
+    /// free run's parameters): mean absolute error per state. The variant's one-step
+    /// predictor: it predicts from the model's filtered estimate of each sample
+    /// (`observer_gain` 1 on every state predicts from the measured state, as
+    /// [`one_step`](Self::one_step) with the least-squares parameters).
+    #[serde(default)]
+    pub one_step_observed: [f64; 6],
     /// Hold baseline of the free run: the window's initial state held for the whole window
     /// (scored over every window sample, whatever the model did).
     pub hold_free_run: [f64; 6],
@@ -283,6 +295,68 @@ pub fn free_run(
     }
 }
 
+/// Runs `step` on `state` for each sample of a chain of samples; where the chain breaks (a gap
+/// in time, a refused sample), `restart`s it and goes on from that sample as the first of a
+/// new chain.
+fn chained<S, E>(
+    state: &mut S,
+    samples: &[HoverSample<f32>],
+    step: impl Fn(&mut S, &HoverSample<f32>) -> Result<E, rotorid::Error>,
+    restart: impl Fn(&mut S),
+) -> Vec<Option<E>> {
+    samples
+        .iter()
+        .map(|s| match step(state, s) {
+            Ok(x) => Some(x),
+            Err(rotorid::Error::TimeStep { .. } | rotorid::Error::NonMonotonicTime) => {
+                restart(state);
+                step(state, s).ok()
+            }
+            Err(_) => {
+                restart(state);
+                None
+            }
+        })
+        .collect()
+}
+
+/// The observer of `id` whose gain gives the least one-step squared error over the training
+/// logs, per state, among [`ObserverSearch`]'s candidates (each log a chain of its own);
+/// `None` when no prediction could be scored.
+pub fn observer_gain(
+    id: &dyn Identifier,
+    training: &[Vec<HoverSample<f32>>],
+) -> Option<Observer<f32>> {
+    let mut search = ObserverSearch::grid();
+    for log in training {
+        search.restart();
+        chained(
+            &mut search,
+            log,
+            |search, s| id.search_gain(search, s),
+            ObserverSearch::restart,
+        );
+    }
+    search.best()
+}
+
+/// One-step predictions of `id` through `observer` over `samples` (restarting after a gap):
+/// `observed[k]` predicts sample k+1 (`None` where refused).
+pub fn observed_one_step(
+    id: &dyn Identifier,
+    samples: &[HoverSample<f32>],
+    mut observer: Observer<f32>,
+) -> Vec<Option<HoverState<f32>>> {
+    let mut observed = chained(
+        &mut observer,
+        samples,
+        |observer, s| id.observe(observer, s),
+        Observer::restart,
+    );
+    observed.pop();
+    observed
+}
+
 /// σ̂ of the white noise of each gyro rate `[q r p]` (deg/s) in the training logs
 /// ([`RateNoise`], each log a chain of its own); `None` for logs too short.
 pub fn gyro_noise_of(training: &[Vec<HoverSample<f32>>]) -> Option<[f32; 3]> {
@@ -297,28 +371,32 @@ pub fn gyro_noise_of(training: &[Vec<HoverSample<f32>>]) -> Option<[f32; 3]> {
     noise.std_dev()
 }
 
-/// How [`evaluate`] runs its free runs.
+/// How [`evaluate`] runs its free runs and its observer.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FreeRunSettings {
-    /// Window (s): each window restarts from the measured state.
+pub struct EvaluationSettings {
+    /// Free-run window (s): each window restarts from the measured state.
     pub window_s: f64,
-    /// σ of the gyro noise `[q r p]` (deg/s) the free run's parameters are compensated for
-    /// (`None`: the least-squares parameters run free).
+    /// σ of the gyro noise `[q r p]` (deg/s) the free run's and the observer's parameters are
+    /// compensated for (`None`: the least-squares parameters).
     pub gyro_noise: Option<[f32; 3]>,
-    /// The velocity the models are fed.
+    /// The velocity the free runs feed the models.
     pub velocity: FreeRunVelocity,
+    /// The one-step observer's gain per state `[v_x v_y v_z q r p]` (`None`: each variant's
+    /// own, found on the training logs by [`observer_gain`]).
+    pub observer_gain: Option<[f32; 6]>,
 }
 
 /// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
-/// hold baseline, frozen one-step (Table 4), still-adapting one-step, and free run as
-/// `free_runs` says: with a gyro noise, the free run is that of the parameters compensated
-/// for it (the least-squares parameters' is kept beside it). `progress` is called once per
-/// training sample and once per verification sample.
+/// hold baseline, frozen one-step (Table 4), one-step through the observer, still-adapting
+/// one-step, and free run as `settings` say: with a gyro noise, the free run and the observer
+/// use the parameters compensated for it (the least-squares parameters' free run is kept
+/// beside it). `progress` is called once per training sample and once per verification
+/// sample.
 pub fn evaluate(
     variant: &Variant,
     training: &[Vec<HoverSample<f32>>],
     verification: &[HoverSample<f32>],
-    free_runs: FreeRunSettings,
+    settings: EvaluationSettings,
     warm_start: Option<&[ModelParameters]>,
     progress: &mut dyn FnMut(),
 ) -> Result<VariantResult, EvaluateError> {
@@ -363,35 +441,52 @@ pub fn evaluate(
     let mut adapting = id.boxed_clone();
     let stats = train(adapting.as_mut(), &[verification.to_vec()], &mut || {});
 
-    let window = (free_runs.window_s * f64::from(SAMPLE_RATE_HZ)).round();
+    let window = (settings.window_s * f64::from(SAMPLE_RATE_HZ)).round();
     let window = if window.is_finite() && window >= 1.0 {
         window as usize
     } else {
         1
     };
-    let least_squares = free_run(id.as_ref(), verification, window, free_runs.velocity);
+    let least_squares = free_run(id.as_ref(), verification, window, settings.velocity);
+    // The parameters compensated for the gyro noise, where any rule was: the free run's and
+    // the observer's.
     let mut compensated_rules = [0; 2];
-    let mut compensated_parameters = None;
-    let (free, free_run_least_squares) = match free_runs.gyro_noise {
-        Some(sigma) => {
-            let mut simulated = id.boxed_clone();
-            let c = simulated
-                .compensate(&sigma)
-                .map_err(|source| EvaluateError::Compensate {
-                    variant: variant.name,
-                    source,
-                })?;
-            compensated_rules = [c.compensated, c.refused];
-            if c.compensated > 0 {
-                let free = free_run(simulated.as_ref(), verification, window, free_runs.velocity);
-                compensated_parameters = Some(simulated.parameters());
-                (free, Some(least_squares.error))
-            } else {
-                (least_squares, None)
-            }
+    let mut compensated = None;
+    if let Some(sigma) = settings.gyro_noise {
+        let mut simulated = id.boxed_clone();
+        let c = simulated
+            .compensate(&sigma)
+            .map_err(|source| EvaluateError::Compensate {
+                variant: variant.name,
+                source,
+            })?;
+        compensated_rules = [c.compensated, c.refused];
+        if c.compensated > 0 {
+            compensated = Some(simulated);
         }
+    }
+    let (free, free_run_least_squares) = match &compensated {
+        Some(simulated) => (
+            free_run(simulated.as_ref(), verification, window, settings.velocity),
+            Some(least_squares.error),
+        ),
         None => (least_squares, None),
     };
+    let flown = compensated.as_deref().unwrap_or(id.as_ref());
+    let observer = match settings.observer_gain {
+        Some(gain) => Observer::new(gain).map_err(|source| EvaluateError::Observer {
+            variant: variant.name,
+            source,
+        })?,
+        None => observer_gain(flown, training).unwrap_or_else(Observer::measured),
+    };
+    let observed = observed_one_step(flown, verification, observer);
+    let one_step_observed = mean_abs_errors(
+        observed
+            .iter()
+            .zip(actual.iter().skip(1))
+            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
+    );
 
     Ok(VariantResult {
         name: variant.name.to_string(),
@@ -403,6 +498,8 @@ pub fn evaluate(
         free_run: free.error,
         free_run_least_squares,
         compensated_rules,
+        observer_gain: observer.gain(),
+        one_step_observed,
         hold_free_run: free.hold,
         free_run_windows: free.windows,
         free_run_diverged: free.diverged,
@@ -411,6 +508,6 @@ pub fn evaluate(
         one_step_predictions: preds,
         free_run_trace: free.trace,
         parameters: id.parameters(),
-        compensated_parameters,
+        compensated_parameters: compensated.map(|c| c.parameters()),
     })
 }

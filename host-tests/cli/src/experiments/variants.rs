@@ -6,7 +6,8 @@ use rotorid::hover::{
     VelocityStructure,
 };
 use rotorid::hover::{
-    HoverIdentifier, HoverSample, HoverSnapshot, HoverState, StateModel, StepOutput,
+    GainSearch, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, Observer, StateModel,
+    StepOutput,
 };
 use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Algorithm, Compensation, RlsState};
@@ -46,7 +47,25 @@ pub trait Identifier {
     /// [`HoverIdentifier::compensate`]: the parameters for a simulation, compensated for the
     /// gyros' white noise σ `[q r p]` (deg/s).
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error>;
+    /// [`Observer::predict`] with this identifier's parameters.
+    fn observe(
+        &self,
+        observer: &mut Observer<f32>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error>;
+    /// [`GainSearch::push`] with this identifier's parameters.
+    fn search_gain(
+        &self,
+        search: &mut ObserverSearch,
+        sample: &HoverSample<f32>,
+    ) -> Result<(), rotorid::Error>;
 }
+
+/// Candidate gains of the observer's search: 0.1, 0.2, …, 1.0 ([`GainSearch::grid`]).
+pub const OBSERVER_CANDIDATES: usize = 10;
+
+/// The search for an observer's gain that the tool runs on the training logs.
+pub type ObserverSearch = GainSearch<f32, OBSERVER_CANDIDATES>;
 
 /// Exported state of one model (one [`RlsState`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -283,6 +302,22 @@ where
 
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error> {
         HoverIdentifier::compensate(self, gyro_noise)
+    }
+
+    fn observe(
+        &self,
+        observer: &mut Observer<f32>,
+        sample: &HoverSample<f32>,
+    ) -> Result<HoverState<f32>, rotorid::Error> {
+        observer.predict(self, sample)
+    }
+
+    fn search_gain(
+        &self,
+        search: &mut ObserverSearch,
+        sample: &HoverSample<f32>,
+    ) -> Result<(), rotorid::Error> {
+        search.push(self, sample)
     }
 
     fn parameters(&self) -> Vec<ModelParameters> {

@@ -81,8 +81,8 @@ pub fn state_labels() -> Vec<String> {
         .collect()
 }
 
-/// A per-variant summary table (plain text): hold baseline, frozen one-step, adapting
-/// one-step, free run and its hold baseline.
+/// A per-variant summary table (plain text): hold baseline, frozen one-step from the measured
+/// state and through the observer, adapting one-step, free run and its hold baseline.
 pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
@@ -91,17 +91,25 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
         let _ = writeln!(s, "{} — {}", v.name, v.description);
         let _ = writeln!(
             s,
-            "  {:<12} {:>10} {:>10} {:>10} {:>12} {:>12} {:>16}",
-            "state", "hold", "one-step", "adapting", "free run", "hold (run)", "converged (ρ)"
+            "  {:<12} {:>10} {:>10} {:>10} {:>10} {:>12} {:>12} {:>16}",
+            "state",
+            "hold",
+            "one-step",
+            "observed",
+            "adapting",
+            "free run",
+            "hold (run)",
+            "converged (ρ)"
         );
         for (i, label) in labels.iter().enumerate() {
             let t = &v.training;
             let _ = writeln!(
                 s,
-                "  {:<12} {:>10.4} {:>10.4} {:>10.4} {:>12.4} {:>12.4} {:>16}",
+                "  {:<12} {:>10.4} {:>10.4} {:>10.4} {:>10.4} {:>12.4} {:>12.4} {:>16}",
                 label,
                 v.hold_one_step[i],
                 v.one_step[i],
+                v.one_step_observed[i],
                 v.one_step_adapting[i],
                 v.free_run[i],
                 v.hold_free_run[i],
@@ -116,6 +124,12 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
             s,
             "  free run: {} windows of {window_s} s, {} left the sample limits",
             v.free_run_windows, v.free_run_diverged
+        );
+        let gain: Vec<String> = v.observer_gain.iter().map(|k| format!("{k:.1}")).collect();
+        let _ = writeln!(
+            s,
+            "  observed: one step through the observer of gain K = {} (v_x v_y v_z q r p)",
+            gain.join(", ")
         );
     }
     s
