@@ -37,7 +37,8 @@ use crate::scalar::Real;
 /// ([`HoverIdentifier::compensate`]) describe the noise-free rates, which is what an observer
 /// filters towards.
 ///
-/// 96 bytes in `f32`. Every call that returns `Err` leaves it exactly as it was.
+/// 88 bytes in `f32` (`cargo run -p rotorid --example memory`). Every call that returns `Err`
+/// leaves it exactly as it was.
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Observer<T> {
@@ -172,6 +173,39 @@ impl<T: Real> Observer<T> {
 /// parameters (or learning: each prediction uses the parameters of its time). Its cost per
 /// sample is `N` predictions; a ground replay of the training log is the natural place, and
 /// the gain found travels to the flight computer as six numbers.
+///
+/// ```
+/// use rotorid::hover::{flight_sets, Attitude, Controls, GainSearch, HoverSample};
+/// use rotorid::{FlightIdentifier, HoverConfig};
+///
+/// let flight: Vec<HoverSample<f32>> = (0..500u64)
+///     .map(|k| {
+///         let t = k as f32 * 0.02;
+///         HoverSample {
+///             time_us: k * 20_000,
+///             attitude: Attitude { roll: 0.02, pitch: -0.01, yaw: 0.0 },
+///             velocity: [0.1 * t.sin(), 0.0, -2.0],
+///             rates: [5.0 * (3.0 * t).sin(), 2.0 * t.cos(), 1.0],
+///             controls: Controls { col: 0.5, ped: 0.0, lon: 0.05 * (3.0 * t).cos(), lat: 0.0 },
+///         }
+///     })
+///     .collect();
+/// let mut id = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
+/// for s in &flight {
+///     id.step(s)?;
+/// }
+/// // Replay the training flight with the learnt parameters, one observer per candidate gain.
+/// let mut search = GainSearch::<f32, 10>::grid();
+/// for s in &flight {
+///     search.push(&id, s)?;
+/// }
+/// let mut observer = search.best().expect("predictions were scored");
+/// let gain = observer.gain(); // K per state, to store with the parameters
+/// // In flight: after each sample, the prediction of the next from the filtered state.
+/// let next = observer.predict(&id, &flight[0])?;
+/// # let _ = (gain, next);
+/// # Ok::<(), rotorid::Error>(())
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct GainSearch<T, const N: usize> {
     observers: [Observer<T>; N],

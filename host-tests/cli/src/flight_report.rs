@@ -70,12 +70,10 @@ pub fn noisy_markdown(noisy: &Metrics) -> String {
     let mut s = String::new();
     let find = |n: &str| noisy.variants.iter().find(|v| v.name == n);
     if let (Some(f), Some(b)) = (find(FLIGHT), find(BASELINE)) {
-        let (w1, l1) = worst_ratio(&f.one_step, &b.one_step);
         let (w2, l2) = worst_ratio(&f.free_run, &b.free_run);
+        s += &one_step_lines("Flight default, hover", f, b);
         s += &format!(
-            "* Flight default, hover one step: worst ratio {w1:.3} ({l1}) {}\n\
-             * Flight default, hover free run: worst ratio {w2:.3} ({l2}) {}\n\n",
-            mark(w1 <= HOVER_TOLERANCE),
+            "* Flight default, hover free run: worst ratio {w2:.3} ({l2}) {}\n\n",
             mark(w2 <= HOVER_TOLERANCE)
         );
     }
@@ -84,9 +82,30 @@ pub fn noisy_markdown(noisy: &Metrics) -> String {
         noisy.window_s
     );
     s += &ratios(noisy, |v| v.free_run);
-    s += "\nOne step (θ frozen), ratio to extended plain:\n\n";
+    s += "\nOne step through each variant's observer (θ frozen), ratio to extended plain:\n\n";
+    s += &ratios(noisy, |v| v.one_step_observed);
+    s += "\nOne step from the measured state (θ frozen, Table 4's), ratio to extended plain:\n\n";
     s += &ratios(noisy, |v| v.one_step);
     s
+}
+
+/// The criteria lines on the one step of `f` against `b`: through each one's observer (the
+/// criterion) and from the measured state (Table 4's predictor, beside it).
+fn one_step_lines(what: &str, f: &VariantResult, b: &VariantResult) -> String {
+    let (w, l) = worst_ratio(&f.one_step_observed, &b.one_step_observed);
+    let (m, lm) = worst_ratio(&f.one_step, &b.one_step);
+    format!(
+        "* {what} one step, each through its observer: worst ratio {w:.3} ({l}) {} (at most \
+         {HOVER_TOLERANCE} on every state)\n\
+         * {what} one step from the measured state (Table 4's predictor, least-squares \
+         parameters): worst ratio {m:.3} ({lm}){}\n",
+        mark(w <= HOVER_TOLERANCE),
+        if m <= HOVER_TOLERANCE {
+            ""
+        } else {
+            ", above the tolerance"
+        }
+    )
 }
 
 /// One more run of a pair of flights for the section "What limits the flight default"
@@ -150,7 +169,7 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
     let mut s = String::new();
     for group in first_seen(conditions.iter().map(|c| c.group.as_str())) {
         s += &format!(
-            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s); learnt → compensated) |\n\
+            "#### {group}\n\n| run | v_x | v_y | v_z | q | r | p | one step, worst: observer; measured state | flight: d_f, d_r, d_u (1/s) | extended plain: d_x, d_z (1/s) | flight: M_u ((deg/s²)/(m/s); learnt → compensated) |\n\
              |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
         );
         for c in conditions.iter().filter(|c| c.group == group) {
@@ -166,7 +185,9 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
                     _ => "–".to_string(),
                 })
                 .collect();
-            let (worst, state) = worst_ratio(&f.one_step, &b.one_step);
+            let (observed, observed_state) =
+                worst_ratio(&f.one_step_observed, &b.one_step_observed);
+            let (measured, measured_state) = worst_ratio(&f.one_step, &b.one_step);
             let cell = |params: &[ModelParameters], structure| {
                 drag(params, structure, 0.02).map_or_else(
                     || "–".to_string(),
@@ -188,7 +209,7 @@ pub fn conditions_markdown(conditions: &[Condition]) -> String {
                 None => m_u(&c.params),
             };
             s += &format!(
-                "| {} | {} | {worst:.2} ({state}) | {flight} | {base} | {m_u} |\n",
+                "| {} | {} | {observed:.2} ({observed_state}); {measured:.2} ({measured_state}) | {flight} | {base} | {m_u} |\n",
                 c.label,
                 cells.join(" | ")
             );
@@ -229,12 +250,8 @@ fn criteria(hover: &Metrics, envelope: &Metrics) -> String {
         return "(flight or baseline variant missing)\n".into();
     };
     let mut s = String::new();
-    let (w1, l1) = worst_ratio(&hf.one_step, &hb.one_step);
     let (w2, l2) = worst_ratio(&hf.free_run, &hb.free_run);
-    s += &format!(
-        "* Hover, one step: worst ratio {w1:.3} ({l1}) {} (at most {HOVER_TOLERANCE} on every state)\n",
-        mark(w1 <= HOVER_TOLERANCE)
-    );
+    s += &one_step_lines("Hover,", &hf, &hb);
     s += &format!(
         "* Hover, free run: worst ratio {w2:.3} ({l2}) {}\n",
         mark(w2 <= HOVER_TOLERANCE)
@@ -279,10 +296,12 @@ fn first_order_rates(
     };
     let rates = |v: &VariantResult, b: &VariantResult| free_run_ratios(v, b, 3..6);
     let (w, l) = worst_ratio(&h1.one_step, &hb.one_step);
+    let (o, lo) = worst_ratio(&h1.one_step_observed, &hb.one_step_observed);
     format!(
         "* Without the rate models' second-order term (`{FIRST_ORDER_RATES}`): hover one step, \
-         worst ratio {w:.3} ({l}); free run on q, r, p {} in hover and {} on the envelope \
-         (the flight default: {} and {})\n",
+         worst ratio {o:.3} ({lo}) through the observer and {w:.3} ({l}) from the measured \
+         state; free run on q, r, p {} in hover and {} on the envelope (the flight default: {} \
+         and {})\n",
         rates(&h1, hb),
         rates(&e1, eb),
         rates(hf, hb),
@@ -388,15 +407,20 @@ pub fn flight_by_state(hover: &Metrics, envelope: &Metrics) -> String {
         }
     };
     let mut s = String::from(
-        "| state | hover, one step | hover, free run | envelope, one step | envelope, free run |\n|---|---:|---:|---:|---:|\n"
+        "| state | hover, one step (observer) | hover, one step (measured state) | hover, free run | envelope, one step (observer) | envelope, free run |\n|---|---:|---:|---:|---:|---:|\n"
     );
     let labels = ["v_x", "v_y", "v_z", "q", "r", "p"];
     for (i, label) in labels.iter().enumerate() {
         s += &format!(
-            "| {label} | {} | {} | {} | {} |\n",
-            cell(hf.one_step[i], hb.one_step[i], Some(HOVER_TOLERANCE)),
+            "| {label} | {} | {} | {} | {} | {} |\n",
+            cell(
+                hf.one_step_observed[i],
+                hb.one_step_observed[i],
+                Some(HOVER_TOLERANCE)
+            ),
+            cell(hf.one_step[i], hb.one_step[i], None),
             cell(hf.free_run[i], hb.free_run[i], Some(HOVER_TOLERANCE)),
-            cell(ef.one_step[i], eb.one_step[i], None),
+            cell(ef.one_step_observed[i], eb.one_step_observed[i], None),
             cell(ef.free_run[i], eb.free_run[i], Some(ENVELOPE_TARGET)),
         );
     }
@@ -412,11 +436,27 @@ pub fn flight_by_state(hover: &Metrics, envelope: &Metrics) -> String {
         }
     };
     s += &format!(
-        "\nMissed: hover one step on {}; hover free run on {}; envelope free run on {}.\n",
-        misses(&hf.one_step, &hb.one_step, HOVER_TOLERANCE),
+        "\nMissed: hover one step (observer) on {}; hover free run on {}; envelope free run on {}.\n",
+        misses(&hf.one_step_observed, &hb.one_step_observed, HOVER_TOLERANCE),
         misses(&hf.free_run, &hb.free_run, HOVER_TOLERANCE),
         misses(&ef.free_run, &eb.free_run, ENVELOPE_TARGET),
     );
+    s
+}
+
+/// Every variant's observer gain on the hover and the envelope pair, one row each.
+fn gains(hover: &Metrics, envelope: &Metrics) -> String {
+    let mut s = String::from("| variant | hover pair | envelope pair |\n|---|---|---|\n");
+    let list = |k: &[f32; 6]| {
+        k.iter()
+            .map(|x| format!("{x:.1}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for v in &hover.variants {
+        let e = variant(envelope, &v.name).map_or("–".into(), |e| list(&e.observer_gain));
+        s += &format!("| {} | {} | {e} |\n", v.name, list(&v.observer_gain));
+    }
     s
 }
 
@@ -433,12 +473,18 @@ pub fn flight_markdown(
     s += "\n### Envelope flights: error ratio to extended plain, free run ";
     s += &format!("{} s\n\n", envelope.window_s);
     s += &ratios(envelope, |v| v.free_run);
-    s += "\n### Envelope flights: error ratio to extended plain, one step (θ frozen)\n\n";
+    s += "\n### Envelope flights: error ratio to extended plain, one step through the observer (θ frozen)\n\n";
+    s += &ratios(envelope, |v| v.one_step_observed);
+    s += "\n### Envelope flights: error ratio to extended plain, one step from the measured state (θ frozen)\n\n";
     s += &ratios(envelope, |v| v.one_step);
     s += "\n### Hover flights: error ratio to extended plain, free run\n\n";
     s += &ratios(hover, |v| v.free_run);
-    s += "\n### Hover flights: error ratio to extended plain, one step (θ frozen)\n\n";
+    s += "\n### Hover flights: error ratio to extended plain, one step through the observer (θ frozen)\n\n";
+    s += &ratios(hover, |v| v.one_step_observed);
+    s += "\n### Hover flights: error ratio to extended plain, one step from the measured state (θ frozen)\n\n";
     s += &ratios(hover, |v| v.one_step);
+    s += "\n### The observers' gains K (v_x, v_y, v_z, q, r, p), found on the training flights\n\n";
+    s += &gains(hover, envelope);
     s += "\n### Envelope flights: absolute errors\n\n";
     s += &crate::report::variants_markdown(envelope);
 

@@ -400,7 +400,9 @@ fn end_to_end_on_a_short_flight() {
     assert_eq!(pairs.len(), 3, "{second_order}");
     // Each cell pairs the flight default's ratio with the first-order variant's.
     assert_eq!(pairs[1].matches(" / ").count(), 7, "{}", pairs[1]);
-    assert!(second_order.contains("Of 2 plants: hover one step on q within 3 % with the term: "));
+    assert!(second_order.contains(
+        "Of 2 plants: hover one step from the measured state on q within 3 % with the term: "
+    ));
     let rows: Vec<&str> = criteria
         .lines()
         .filter(|l| l.starts_with("| plant "))

@@ -339,7 +339,7 @@ fn run() -> Result<(), DemoError> {
         && same(&plain.free_run, &host[1].free_run);
 
     println!();
-    println!("Envelope verification flight, θ frozen, computed onboard (mean |error|; m/s, deg/s; ratio < 1: flight better):");
+    println!("Envelope verification flight, θ frozen, computed onboard (mean |error|; m/s, deg/s; ratio < 1: flight better; one step from the measured state: through each one's observer, see docs/results.md):");
     println!(
         "{:<6} {:>10} {:>10} {:>7}   {:>10} {:>10} {:>7}",
         "state", "1-step fl", "1-step xp", "ratio", "2 s fl", "2 s xp", "ratio"
@@ -375,7 +375,7 @@ fn run() -> Result<(), DemoError> {
         list(&|i| fr(i) >= 1.0)
     );
     println!(
-        "One step: flight better on {}; not better on {}.",
+        "One step from the measured state: flight better on {}; not better on {}.",
         list(&|i| os(i) < 1.0),
         list(&|i| os(i) >= 1.0)
     );

@@ -30,6 +30,10 @@ pub fn variants_markdown(m: &Metrics) -> String {
             &fmt4(&v.one_step),
         );
         s += &row(
+            &format!("{}, one step through its observer (θ frozen)", v.name),
+            &fmt4(&v.one_step_observed),
+        );
+        s += &row(
             &format!("{}, one step (θ adapting)", v.name),
             &fmt4(&v.one_step_adapting),
         );
