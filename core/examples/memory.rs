@@ -1,7 +1,9 @@
-//! Prints the memory each identifier needs (`size_of`, bytes), f32 and f64.
+//! Prints the memory each identifier needs (`size_of`, bytes), f32 and f64, and that of the
+//! one-step observer and of the search for its gain (ten candidates) that run beside one.
 //!
 //! Run: `cargo run -p rotorid --example memory`
 use core::mem::size_of;
+use rotorid::hover::{GainSearch, Observer};
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
@@ -29,4 +31,10 @@ fn main() {
     row!(ExtendedFuzzyIdentifier);
     row!(ExtendedLocalIdentifier);
     row!(ExtendedPlainIdentifier);
+    row!(Observer);
+    println!(
+        "| GainSearch<_, 10> | {} | {} |",
+        size_of::<GainSearch<f32, 10>>(),
+        size_of::<GainSearch<f64, 10>>()
+    );
 }

@@ -9,7 +9,7 @@
 //! stream spends most of its time. Compiled in this crate, at the opt-level of the onboard
 //! identifiers.
 
-use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample};
+use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample, Observer};
 use rotorid::{
     Error, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
@@ -101,40 +101,69 @@ impl Selection<'_> {
 /// hash of six words per step) without a step, which `step_profile --identifier` subtracts.
 pub const STREAM_ONLY: &str = "stream";
 
+/// The running figures of one row: ticks of the measured steps, refusals, hash of the
+/// predictions.
+struct Tally {
+    sum: u64,
+    max: u64,
+    rejected: u32,
+    hash: u32,
+}
+
+impl Tally {
+    fn new() -> Self {
+        Self {
+            sum: 0,
+            max: 0,
+            rejected: 0,
+            hash: 0x811c_9dc5,
+        }
+    }
+
+    /// Step `k` took `ticks` and gave `prediction` (its six states), or was refused.
+    fn record(&mut self, k: u32, ticks: u64, prediction: Option<[f32; 6]>) {
+        match prediction {
+            Some(p) => {
+                for x in p {
+                    self.hash = fnv(self.hash, x.to_bits());
+                }
+            }
+            None => self.rejected += 1,
+        }
+        if k >= WARM_UP {
+            self.sum += ticks;
+            self.max = self.max.max(ticks);
+        }
+    }
+
+    /// The row of `name` after `steps` steps.
+    fn cost(&self, name: &'static str, steps: u32) -> StepCost {
+        let steps = steps.saturating_sub(WARM_UP);
+        StepCost {
+            name,
+            mean_ticks: self.sum / u64::from(steps.max(1)),
+            max_ticks: self.max,
+            steps,
+            rejected: self.rejected,
+            hash: self.hash,
+        }
+    }
+}
+
 macro_rules! measure {
     ($name:expr, $build:expr, $selection:expr, $timer:expr, $report:expr) => {{
         if $selection.includes($name) {
             let built: Result<_, Error> = $build;
             if let Ok(mut id) = built {
-                let (mut sum, mut max, mut rejected) = (0u64, 0u64, 0u32);
-                let mut hash = 0x811c_9dc5u32;
+                let mut tally = Tally::new();
                 for k in 0..$selection.steps {
                     let s = sample(k);
                     $timer.restart();
                     let out = id.step(&s);
                     let t = $timer.elapsed();
-                    match out {
-                        Ok(o) => {
-                            for x in o.prediction.to_array() {
-                                hash = fnv(hash, x.to_bits());
-                            }
-                        }
-                        Err(_) => rejected += 1,
-                    }
-                    if k >= WARM_UP {
-                        sum += t;
-                        max = max.max(t);
-                    }
+                    tally.record(k, t, out.ok().map(|o| o.prediction.to_array()));
                 }
-                let steps = $selection.steps.saturating_sub(WARM_UP);
-                $report(&StepCost {
-                    name: $name,
-                    mean_ticks: sum / u64::from(steps.max(1)),
-                    max_ticks: max,
-                    steps,
-                    rejected,
-                    hash,
-                });
+                $report(&tally.cost($name, $selection.steps));
             }
         }
     }};
@@ -216,6 +245,36 @@ pub fn run_selected(
         timer,
         report
     );
+    if selection.includes(FLIGHT_OBSERVER) {
+        flight_observer(selection.steps, timer, report);
+    }
+}
+
+/// The name of the observer's row: [`Observer::predict`] beside a learning
+/// `FlightIdentifier` (the identifier's own step is not counted).
+pub const FLIGHT_OBSERVER: &str = "FlightIdentifier, Observer::predict";
+
+/// [`FLIGHT_OBSERVER`]'s figures: the flight identifier steps through the stream, and after each
+/// step an observer (gain 0.5 on every state) predicts the next sample from it; only the
+/// observer is timed, and its predictions are hashed.
+fn flight_observer(steps: u32, timer: &mut dyn Timer, report: &mut dyn FnMut(&StepCost)) {
+    let (Ok(mut id), Ok(mut observer)) = (
+        FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()),
+        Observer::new([0.5; 6]),
+    ) else {
+        return;
+    };
+    let mut tally = Tally::new();
+    for k in 0..steps {
+        let s = sample(k);
+        let learnt = id.step(&s).is_ok();
+        timer.restart();
+        let out = observer.predict(&id, &s);
+        let t = timer.elapsed();
+        let prediction = out.ok().filter(|_| learnt).map(|p| p.to_array());
+        tally.record(k, t, prediction);
+    }
+    report(&tally.cost(FLIGHT_OBSERVER, steps));
 }
 
 /// The loop of `measure!` without an identifier (see [`STREAM_ONLY`]).
