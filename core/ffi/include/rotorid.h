@@ -106,6 +106,12 @@
 #define ROTORID_E_CONFIG_UNKNOWN 19
 
 /**
+ * An observer gain is not finite and in [0, 1] (`index`: its state, or the candidate's
+ * number; `rotorid::hover::Observer`, which this library does not wrap yet).
+ */
+#define ROTORID_E_CONFIG_OBSERVER_GAIN 20
+
+/**
  * An error the core added after this library (update the library).
  */
 #define ROTORID_E_UNKNOWN 99
@@ -482,7 +488,8 @@ typedef struct {
    */
   uint32_t quantity;
   /**
-   * Index within the quantity (axis, control, entry).
+   * Index within the quantity (axis, control, entry); CONFIG_OBSERVER_GAIN: the gain's
+   * state or candidate.
    */
   uint32_t index;
   /**

@@ -48,6 +48,9 @@ pub const ROTORID_E_CONFIG_SWEEP: i32 = 17;
 pub const ROTORID_E_CONFIG_SCALE: i32 = 18;
 /// A configuration error the core added after this library (update the library).
 pub const ROTORID_E_CONFIG_UNKNOWN: i32 = 19;
+/// An observer gain is not finite and in [0, 1] (`index`: its state, or the candidate's
+/// number; `rotorid::hover::Observer`, which this library does not wrap yet).
+pub const ROTORID_E_CONFIG_OBSERVER_GAIN: i32 = 20;
 /// An error the core added after this library (update the library).
 pub const ROTORID_E_UNKNOWN: i32 = 99;
 
@@ -107,7 +110,8 @@ pub struct rotorid_error_t {
     pub code: i32,
     /// `ROTORID_QUANTITY_*` of a NON_FINITE or OUT_OF_RANGE value.
     pub quantity: u32,
-    /// Index within the quantity (axis, control, entry).
+    /// Index within the quantity (axis, control, entry); CONFIG_OBSERVER_GAIN: the gain's
+    /// state or candidate.
     pub index: u32,
     /// TIME_STEP: measured interval (µs).
     pub dt_us: u64,
@@ -181,6 +185,10 @@ fn config(e: ConfigError) -> rotorid_error_t {
         ConfigError::SamplePeriod => ROTORID_E_CONFIG_SAMPLE_PERIOD,
         ConfigError::Sweep => ROTORID_E_CONFIG_SWEEP,
         ConfigError::Scale => ROTORID_E_CONFIG_SCALE,
+        ConfigError::ObserverGain { index } => {
+            d.index = index.into();
+            ROTORID_E_CONFIG_OBSERVER_GAIN
+        }
         _ => ROTORID_E_CONFIG_UNKNOWN,
     };
     d
@@ -255,6 +263,7 @@ pub extern "C" fn rotorid_error_name(code: i32) -> *const core::ffi::c_char {
         ROTORID_E_CONFIG_SWEEP => c"ROTORID_E_CONFIG_SWEEP",
         ROTORID_E_CONFIG_SCALE => c"ROTORID_E_CONFIG_SCALE",
         ROTORID_E_CONFIG_UNKNOWN => c"ROTORID_E_CONFIG_UNKNOWN",
+        ROTORID_E_CONFIG_OBSERVER_GAIN => c"ROTORID_E_CONFIG_OBSERVER_GAIN",
         ROTORID_E_UNKNOWN => c"ROTORID_E_UNKNOWN",
         ROTORID_E_NULL => c"ROTORID_E_NULL",
         ROTORID_E_MISALIGNED => c"ROTORID_E_MISALIGNED",
@@ -304,6 +313,7 @@ mod tests {
             Error::Config(ConfigError::SamplePeriod),
             Error::Config(ConfigError::Sweep),
             Error::Config(ConfigError::Scale),
+            Error::Config(ConfigError::ObserverGain { index: 4 }),
         ];
         let mut codes: std::vec::Vec<i32> = errors
             .iter()
@@ -320,13 +330,15 @@ mod tests {
         assert_eq!((d.dt_us, d.min_us, d.max_us), (1, 2, 3));
         let d = rotorid_error_t::from(errors[11]);
         assert_eq!((d.expected, d.found), (7, 4));
+        let d = rotorid_error_t::from(errors[15]);
+        assert_eq!(d.index, 4);
     }
 
     #[test]
     fn every_code_has_a_name() {
         for code in [-7, -6, -5, -4, -3, -2, -1, 0, 1, 2, 3, 4, 5, 6, 99]
             .into_iter()
-            .chain(10..=19)
+            .chain(10..=20)
         {
             // SAFETY: the function returns a pointer to a static C string.
             let name = unsafe { core::ffi::CStr::from_ptr(rotorid_error_name(code)) };
