@@ -66,6 +66,7 @@ fn config_code(c: ConfigError) -> (u8, u16, u64) {
         ConfigError::SamplePeriod => (7, 0, 0),
         ConfigError::Sweep => (8, 0, 0),
         ConfigError::Scale => (9, 0, 0),
+        ConfigError::ObserverGain { index } => (10, u16::from(index), 0),
         _ => (UNKNOWN_CODE, 0, 0),
     }
 }
@@ -91,6 +92,7 @@ fn config_from(code: u8, index: u16, a: u64) -> Option<ConfigError> {
         7 => ConfigError::SamplePeriod,
         8 => ConfigError::Sweep,
         9 => ConfigError::Scale,
+        10 if hi == 0 => ConfigError::ObserverGain { index: lo },
         _ => return None,
     })
 }
@@ -241,6 +243,7 @@ mod tests {
             ConfigError::SamplePeriod,
             ConfigError::Sweep,
             ConfigError::Scale,
+            ConfigError::ObserverGain { index: 5 },
         ];
         let mut v = vec![
             None,
