@@ -22,8 +22,8 @@ use rotorid::hover::HoverSample;
 use rotorid::HoverState;
 use rotorid_cli::error_chain::Chain;
 use rotorid_cli::experiments::{
-    evaluate, format_table4, gyro_noise_of, mean_abs_errors, variants, EvaluateError,
-    EvaluationSettings, FreeRunVelocity,
+    evaluate, format_table4, gyro_noise_of, mean_abs_errors, one_step_mean_abs_errors, variants,
+    EvaluateError, EvaluationSettings, FreeRunVelocity,
 };
 use rotorid_link::msg::{Estimate, Ident, IdentPair, RlsForm, SampleMode, SampleMsg};
 use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
@@ -230,12 +230,7 @@ fn errors(
         .iter()
         .map(|e| out(e).error.is_none().then(|| state(&out(e).prediction)))
         .collect();
-    let one = mean_abs_errors(
-        preds
-            .iter()
-            .zip(actual.iter().skip(1))
-            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
-    );
+    let one = one_step_mean_abs_errors(&preds, &actual);
     let mut pairs = Vec::new();
     let mut cut: Option<usize> = None;
     let mut diverged = 0;

@@ -33,6 +33,20 @@ pub fn mean_abs_errors<'a>(
     sum
 }
 
+/// Mean absolute one-step error per state of `predictions` against `actual`, where
+/// `predictions[k]` predicts `actual[k + 1]` (`None`, a refused prediction, is skipped).
+pub fn one_step_mean_abs_errors(
+    predictions: &[Option<HoverState<f32>>],
+    actual: &[HoverState<f32>],
+) -> [f64; 6] {
+    mean_abs_errors(
+        predictions
+            .iter()
+            .zip(actual.iter().skip(1))
+            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
+    )
+}
+
 /// What training on a set of logs did.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct TrainingStats {
@@ -429,12 +443,7 @@ pub fn evaluate(
         preds.push(p);
     }
     let actual: Vec<HoverState<f32>> = verification.iter().map(HoverSample::state).collect();
-    let one_step = mean_abs_errors(
-        preds
-            .iter()
-            .zip(actual.iter().skip(1))
-            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
-    );
+    let one_step = one_step_mean_abs_errors(&preds, &actual);
     let hold_one_step = mean_abs_errors(actual.iter().zip(actual.iter().skip(1)));
 
     // Still adapting: a copy of the trained identifier keeps learning on the verification log.
@@ -481,12 +490,7 @@ pub fn evaluate(
         None => observer_gain(flown, training).unwrap_or_else(Observer::measured),
     };
     let observed = observed_one_step(flown, verification, observer);
-    let one_step_observed = mean_abs_errors(
-        observed
-            .iter()
-            .zip(actual.iter().skip(1))
-            .filter_map(|(p, a)| p.as_ref().map(|p| (p, a))),
-    );
+    let one_step_observed = one_step_mean_abs_errors(&observed, &actual);
 
     Ok(VariantResult {
         name: variant.name.to_string(),
