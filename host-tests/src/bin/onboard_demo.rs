@@ -334,7 +334,7 @@ fn run() -> Result<(), DemoError> {
         && same(&plain.free_run, &host[1].free_run);
 
     println!();
-    println!("Envelope verification flight, θ frozen, computed onboard (mean |error|; m/s, deg/s; ratio < 1: flight better; one step from the measured state: through each one's observer, see docs/results.md):");
+    println!("Envelope verification flight, θ frozen, computed onboard (mean |error|; m/s, deg/s; ratio < 1: flight better; 1-step: from the measured state, the firmware's own predictions; through an observer: docs/results.md):");
     println!(
         "{:<6} {:>10} {:>10} {:>7}   {:>10} {:>10} {:>7}",
         "state", "1-step fl", "1-step xp", "ratio", "2 s fl", "2 s xp", "ratio"
