@@ -204,6 +204,8 @@ fn the_search_finds_the_kalman_gain_of_a_first_order_rate() {
         }
         let found = search.best().unwrap().gain()[3];
         let expected = kalman_gain(a, q, r);
+        // `-- --nocapture` shows them.
+        eprintln!("q {q}, r {r}: found {found}, steady-state Kalman gain {expected:.3}");
         assert!(
             (found - expected).abs() < 0.1,
             "q {q}, r {r}: found {found}, Kalman {expected:.3}"
