@@ -92,6 +92,10 @@ pub struct Channels {
     pub rates_frd: Series<3>,
     /// Normalised controls `[col ped lon lat]`.
     pub controls: Series<4>,
+    /// Whether the vehicle is flying, from the autopilot's own state where the log has it
+    /// (1 = in the air, 0 = on the ground or disarmed; held until the next sample); empty
+    /// when the log says nothing, and the in-air detector then falls back on the data.
+    pub in_air: Series<1>,
 }
 
 impl Channels {
@@ -267,6 +271,7 @@ mod tests {
             velocity_ned: series(ts, |t| [t, 0.0, 0.0]),
             rates_frd: series(ts, |t| [0.0, 0.0, 2.0 * t]),
             controls: series(ts, |t| [0.5, t, 0.0, 0.0]),
+            in_air: Series::default(),
         }
     }
 

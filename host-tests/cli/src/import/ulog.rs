@@ -204,6 +204,7 @@ pub fn channels(file: &str, path: &Path) -> Result<(Channels, Vec<String>), Impo
             velocity_ned,
             rates_frd,
             controls,
+            in_air: Series::default(),
         },
         notes,
     ))
