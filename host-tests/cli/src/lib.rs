@@ -10,9 +10,11 @@
 pub mod error_chain;
 pub mod experiments;
 pub mod flight_report;
+pub mod holdout;
 pub mod import;
 pub mod log;
 pub mod precision;
 pub mod report;
 pub mod results;
 pub mod robustness;
+pub mod verdict;

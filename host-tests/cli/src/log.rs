@@ -5,7 +5,7 @@
 //!
 //! | column | quantity | unit |
 //! |---|---|---|
-//! | `time_s` | sample time, strictly increasing, no gap over [`MAX_INTERVAL_S`] | s |
+//! | `time_s` | sample time, strictly increasing, no gap over [`MAX_INTERVAL_S`] (or 1.5 times the first interval, for a log at a lower rate) | s |
 //! | `u_col`, `u_ped`, `u_lon`, `u_lat` | sticks, collective clearly positive at hover | −1…1 |
 //! | `roll_rad`, `pitch_rad`, `yaw_rad` | ZYX Euler angles φ, θ, ψ | rad |
 //! | `v_north_mps`, `v_east_mps`, `v_down_mps` | inertial velocity, NED | m/s |
@@ -215,6 +215,23 @@ fn err(
     }
 }
 
+/// At most [`EXCERPT_CHARS`] characters of a field, for an error message (a field of a
+/// corrupt file can be megabytes long).
+pub fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(EXCERPT_CHARS) {
+        Some((cut, _)) => format!("{}…", &text[..cut]),
+        None => text.to_string(),
+    }
+}
+
+/// Longest excerpt of a field quoted in an error (characters).
+pub const EXCERPT_CHARS: usize = 40;
+
+/// Longest first interval of a CSV log (s): a 5 Hz log's, the slowest rate `identify`
+/// runs at; the first interval then sets the limit of the others (1.5 times it, at least
+/// [`MAX_INTERVAL_S`]).
+pub const SLOWEST_INTERVAL_S: f64 = 0.2;
+
 /// Wrong-unit spellings of each column's quantity (lower case), e.g. `p_degps` for `p_radps`.
 fn wrong_unit(header: &str) -> Option<&'static str> {
     let h = header.trim().to_ascii_lowercase();
@@ -239,8 +256,50 @@ pub fn read_log(path: &Path) -> Result<Vec<SensorSample>, LogError> {
     parse_log(&name, file)
 }
 
-/// Parses and checks a log from any reader; `file` names it in errors.
+/// Parses and checks a log from any reader; `file` names it in errors. A last line without
+/// its line end is dropped (see [`parse_log_noted`], which says so).
 pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, LogError> {
+    parse_log_noted(file, reader).map(|(samples, _)| samples)
+}
+
+/// Remembers the last byte read, to tell a file cut mid-line.
+struct LastByte<R> {
+    inner: R,
+    last: Option<u8>,
+}
+
+impl<R: Read> Read for LastByte<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        if let Some(b) = buf[..n].last() {
+            self.last = Some(*b);
+        }
+        Ok(n)
+    }
+}
+
+/// [`parse_log`], with notes: a last line without its line end (a file cut while it was
+/// written, its last number possibly short of digits) is dropped, and a note says so.
+pub fn parse_log_noted(
+    file: &str,
+    reader: impl Read,
+) -> Result<(Vec<SensorSample>, Vec<String>), LogError> {
+    let mut reader = LastByte {
+        inner: reader,
+        last: None,
+    };
+    let mut out = parse_rows(file, &mut reader)?;
+    let mut notes = Vec::new();
+    if !matches!(reader.last, Some(b'\n' | b'\r')) && out.len() > 1 {
+        out.pop();
+        notes.push(format!(
+            "{file}: the last line has no line end (the file was cut while written?): its row is dropped"
+        ));
+    }
+    Ok((out, notes))
+}
+
+fn parse_rows(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, LogError> {
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -266,7 +325,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                     file,
                     Some(header_line),
                     Some((i + 1, h)),
-                    LogErrorKind::DuplicateColumn(h.to_string()),
+                    LogErrorKind::DuplicateColumn(excerpt(h)),
                 ));
             }
             index[k] = i;
@@ -276,7 +335,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                 Some(header_line),
                 Some((i + 1, h)),
                 LogErrorKind::WrongUnit {
-                    found: h.to_string(),
+                    found: excerpt(h),
                     expected,
                 },
             ));
@@ -297,6 +356,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
     }
 
     let mut out: Vec<SensorSample> = Vec::new();
+    let mut first_interval: Option<f64> = None;
     for record in records {
         let record = record.map_err(csv_err)?;
         let line = record.position().map_or(0, csv::Position::line);
@@ -340,9 +400,9 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
             let x: f64 = text.parse().map_err(|_| {
                 let comma = text.replacen(',', ".", 1).parse::<f64>().is_ok();
                 let kind = if comma {
-                    LogErrorKind::DecimalComma(text.to_string())
+                    LogErrorKind::DecimalComma(excerpt(text))
                 } else {
-                    LogErrorKind::NotANumber(text.to_string())
+                    LogErrorKind::NotANumber(excerpt(text))
                 };
                 err(file, Some(line), col, kind)
             })?;
@@ -351,7 +411,7 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                     file,
                     Some(line),
                     col,
-                    LogErrorKind::NonFinite(text.to_string()),
+                    LogErrorKind::NonFinite(excerpt(text)),
                 ));
             }
             check_range(k, x).map_err(|kind| err(file, Some(line), col, kind))?;
@@ -371,17 +431,21 @@ pub fn parse_log(file: &str, reader: impl Read) -> Result<Vec<SensorSample>, Log
                     },
                 ));
             }
-            if t - prev.t > MAX_INTERVAL_S {
+            // A log at a lower rate (a 10 Hz conversion) sets its own limit by its first
+            // interval, which may be as long as a 5 Hz log's.
+            let max = first_interval.map_or(SLOWEST_INTERVAL_S, |dt| MAX_INTERVAL_S.max(1.5 * dt));
+            if t - prev.t > max {
                 return Err(err(
                     file,
                     Some(line),
                     col,
                     LogErrorKind::Gap {
                         dt: t - prev.t,
-                        max: MAX_INTERVAL_S,
+                        max,
                     },
                 ));
             }
+            first_interval.get_or_insert(t - prev.t);
         }
         out.push(SensorSample {
             t,

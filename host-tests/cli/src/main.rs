@@ -107,16 +107,41 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Train the fuzzy and plain identifiers on logs, verify on another log, print Table 4.
-    /// Logs: CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin); a log split at gaps trains on
-    /// each segment and verifies on the longest.
+    /// Identify hover models from flight logs and say which model to fly: per axis, its free
+    /// run against holding the measured state and against the linear baseline, and what the
+    /// logs could not show (`--full`: every variant's tables). Logs: CSV, PX4 ULog (.ulg),
+    /// ArduPilot DataFlash (.bin) or PX4 sdlog2 (.px4log); ground time and implausible
+    /// stretches are cut, every usable segment is learnt, and without --verify a part is held
+    /// out for verification (--holdout).
     Identify {
+        /// Logs to identify from (as --train).
+        logs: Vec<PathBuf>,
         /// Training (identification) logs, learnt one after another.
-        #[arg(long, required = true, num_args = 1..)]
+        #[arg(long, num_args = 1..)]
         train: Vec<PathBuf>,
-        /// Verification log (θ frozen after training).
+        /// Verification log (θ frozen after training; its longest segment). Without it, part
+        /// of the training data is held out (--holdout).
         #[arg(long)]
-        verify: PathBuf,
+        verify: Option<PathBuf>,
+        /// Fraction of the data held out for verification when --verify is not given (the
+        /// later part: a whole segment of about that size, else the end of the longest).
+        #[arg(long, default_value_t = 0.3)]
+        holdout: f64,
+        /// Identification rate (Hz): `auto` takes the fastest of 50, 25, 20, 10, 5 Hz that
+        /// every channel of every log is logged at (no invented samples); a number forces it.
+        #[arg(long, default_value = "auto", value_parser = parse_rate)]
+        rate: RateArg,
+        /// Use the logs only from this log time (s, as logged) on; with --to it replaces the
+        /// in-air detector.
+        #[arg(long)]
+        from: Option<f64>,
+        /// Use the logs only up to this log time (s).
+        #[arg(long)]
+        to: Option<f64>,
+        /// Print every variant's tables, the Table 4 analogue and every import note, not only
+        /// the verdict.
+        #[arg(long)]
+        full: bool,
         /// Directory for metrics.json, params-*.json and the figures.
         #[arg(long, default_value = "rotorid-out")]
         out: PathBuf,
@@ -152,14 +177,28 @@ enum Command {
         #[arg(long, default_value = "auto", value_parser = parse_observer_gain)]
         observer_gain: ObserverGainArg,
     },
-    /// Convert a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log to the CSV format
-    /// (docs/log-format.md): resampled at 50 Hz; the longest gap-free segment.
+    /// Convert a PX4 ULog (.ulg), ArduPilot DataFlash (.bin) or PX4 sdlog2 (.px4log) log to
+    /// the CSV format (docs/log-format.md): ground time and implausible stretches cut,
+    /// resampled at the log's own rate (at most 50 Hz); the longest segment, or every segment
+    /// with --all.
     Convert {
-        /// Input log (.ulg, .bin, or CSV).
+        /// Input log (.ulg, .bin, .px4log, or CSV).
         input: PathBuf,
-        /// Output CSV file.
+        /// Output CSV file (with --all: OUTPUT-1.csv, OUTPUT-2.csv, … beside it).
         #[arg(short, long)]
         output: PathBuf,
+        /// Write every segment, each to its own file.
+        #[arg(long)]
+        all: bool,
+        /// Sample rate of the CSV (Hz): `auto` as `identify --rate`.
+        #[arg(long, default_value = "auto", value_parser = parse_rate)]
+        rate: RateArg,
+        /// Only from this log time (s) on (replaces the in-air detector, as in identify).
+        #[arg(long)]
+        from: Option<f64>,
+        /// Only up to this log time (s).
+        #[arg(long)]
+        to: Option<f64>,
     },
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
@@ -262,6 +301,10 @@ enum CliError {
     Import(#[from] ImportError),
     #[error("{}: no samples", .0.display())]
     NoSamples(PathBuf),
+    #[error("no log to identify from: give LOG... (or --train LOG...)")]
+    NoLogs,
+    #[error(transparent)]
+    Split(#[from] rotorid_cli::holdout::SplitError),
     #[error("{}: needs at least 2 samples", .0.display())]
     TooFewSamples(PathBuf),
     #[error("{}: cannot read", path.display())]
@@ -384,8 +427,14 @@ fn main() -> ExitCode {
             &output,
         ),
         Command::Identify {
+            logs,
             train,
             verify,
+            holdout,
+            rate,
+            from,
+            to,
+            full,
             out,
             window,
             plot_span,
@@ -394,19 +443,42 @@ fn main() -> ExitCode {
             gyro_noise,
             free_run_velocity,
             observer_gain,
-        } => run_identify(
-            &train,
-            &verify,
-            &out,
+        } => run_identify(&IdentifyArgs {
+            train: logs.into_iter().chain(train).collect(),
+            verify,
+            holdout,
+            options: import::ImportOptions {
+                rate_hz: rate.0,
+                from_s: from,
+                to_s: to,
+            },
+            full,
+            out,
             window,
             plot_span,
             no_plots,
-            warm_start.as_deref(),
+            warm_start,
             gyro_noise,
-            free_run_velocity.into(),
+            free_run_velocity: free_run_velocity.into(),
             observer_gain,
+        }),
+        Command::Convert {
+            input,
+            output,
+            all,
+            rate,
+            from,
+            to,
+        } => run_convert(
+            &input,
+            &output,
+            all,
+            &import::ImportOptions {
+                rate_hz: rate.0,
+                from_s: from,
+                to_s: to,
+            },
         ),
-        Command::Convert { input, output } => run_convert(&input, &output),
         Command::Report(args) => run_report(&args),
         Command::RobustnessReport { runs, how, output } => {
             run_robustness_report(&runs, &how, &output)
@@ -508,46 +580,100 @@ fn run_simulate(
     Ok(())
 }
 
-/// Reads a log of any format (CSV, ULog, DataFlash) and prints its notes and warnings; `all`:
-/// every usable segment (training), else the longest (verification).
-fn read(path: &Path, all: bool) -> Result<Vec<Vec<rotorid::hover::HoverSample<f32>>>, CliError> {
-    let imported = import::import(path)?;
-    let segments = import::segments_for_identify(&imported, all);
-    report_import(path, &imported, &segments);
-    Ok(segments
-        .iter()
-        .map(|s| flights::to_hover_samples(s))
-        .collect())
+/// Reads a log of any format (CSV, ULog, DataFlash, sdlog2) as `options` say.
+fn read(path: &Path, options: &import::ImportOptions) -> Result<import::Imported, CliError> {
+    Ok(import::import_with(path, options)?)
 }
 
-/// Prints an import's notes and the warnings on the segments used.
-fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segment]) {
-    for n in &imported.notes {
-        eprintln!("note: {n}");
+/// Prints an import's warnings, and its notes (`full`) or a one-line summary of them.
+fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segment], full: bool) {
+    let file = path.display().to_string();
+    if full || imported.notes.len() <= 2 {
+        for n in &imported.notes {
+            eprintln!("note: {n}");
+        }
+    } else {
+        eprintln!(
+            "note: {file}: {} notes ({} cuts; --full lists them)",
+            imported.notes.len(),
+            imported.cuts.len()
+        );
+    }
+    for w in &imported.warnings {
+        eprintln!("warning: {w}");
     }
     for seg in used {
-        for w in log::warnings(&path.display().to_string(), seg) {
+        for w in log::warnings(&file, seg) {
             eprintln!("warning: {w}");
         }
     }
 }
 
-fn run_convert(input: &Path, output: &Path) -> Result<(), CliError> {
-    let imported = import::import(input)?;
-    let seg = imported
-        .longest()
-        .ok_or_else(|| CliError::NoSamples(input.to_path_buf()))?;
-    report_import(input, &imported, &[seg]);
-    log::write_log(output, seg)?;
-    eprintln!(
-        "wrote {} samples ({:.2}–{:.2} s, the longest of {} segments) to {}",
-        seg.len(),
-        seg.first().map_or(0.0, |s| s.t),
-        seg.last().map_or(0.0, |s| s.t),
-        imported.segments.len(),
-        output.display()
-    );
+fn run_convert(
+    input: &Path,
+    output: &Path,
+    all: bool,
+    options: &import::ImportOptions,
+) -> Result<(), CliError> {
+    let imported = read(input, options)?;
+    let segments: Vec<&import::Segment> = if all {
+        imported.segments.iter().collect()
+    } else {
+        imported.longest().into_iter().collect()
+    };
+    report_import(input, &imported, &segments, true);
+    for (k, seg) in segments.iter().enumerate() {
+        let path = if all {
+            numbered(output, k + 1)
+        } else {
+            output.to_path_buf()
+        };
+        log::write_log(&path, seg)?;
+        eprintln!(
+            "wrote {} samples ({:.2}–{:.2} s at {} Hz{}) to {}",
+            seg.len(),
+            seg.first().map_or(0.0, |s| s.t),
+            seg.last().map_or(0.0, |s| s.t),
+            imported.rate_hz,
+            if all {
+                String::new()
+            } else {
+                format!(", the longest of {} segments", imported.segments.len())
+            },
+            path.display()
+        );
+    }
     Ok(())
+}
+
+/// `out.csv` → `out-3.csv`.
+fn numbered(path: &Path, k: usize) -> PathBuf {
+    let stem = path.file_stem().map_or_else(
+        || "segment".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let ext = path
+        .extension()
+        .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    path.with_file_name(format!("{stem}-{k}{ext}"))
+}
+
+/// `--rate`: `auto` (`None`) or a rate in Hz.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RateArg(Option<f64>);
+
+fn parse_rate(text: &str) -> Result<RateArg, String> {
+    if text == "auto" {
+        return Ok(RateArg(None));
+    }
+    match text.parse::<f64>() {
+        Ok(r) if r.is_finite() && (1.0..=1000.0).contains(&r) && (1e6 / r).fract() == 0.0 => {
+            Ok(RateArg(Some(r)))
+        }
+        _ => Err(format!(
+            "`{text}` is not an identification rate: auto, or Hz from 1 to 1000 whose period is a whole number of µs (50, 25, 20, 10, …)"
+        )),
+    }
 }
 
 fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), CliError> {
@@ -642,54 +768,161 @@ fn parse_observer_gain(text: &str) -> Result<ObserverGainArg, String> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn run_identify(
-    train: &[PathBuf],
-    verify: &Path,
-    out: &Path,
+/// The arguments of `rotorid identify`, resolved.
+struct IdentifyArgs {
+    train: Vec<PathBuf>,
+    verify: Option<PathBuf>,
+    holdout: f64,
+    options: import::ImportOptions,
+    full: bool,
+    out: PathBuf,
     window: f64,
     plot_span: Option<f64>,
     no_plots: bool,
-    warm_start: Option<&Path>,
+    warm_start: Option<PathBuf>,
     gyro_noise: GyroNoise,
     free_run_velocity: experiments::FreeRunVelocity,
     observer_gain: ObserverGainArg,
-) -> Result<(), CliError> {
+}
+
+/// Reads every log at one rate: each at the rate its channels support, then those faster
+/// than the slowest again at that (a model is learnt at one sample period).
+fn read_all(
+    paths: &[&Path],
+    options: &import::ImportOptions,
+) -> Result<Vec<import::Imported>, CliError> {
+    let mut imported = paths
+        .iter()
+        .map(|p| read(p, options))
+        .collect::<Result<Vec<_>, _>>()?;
+    let rate = imported
+        .iter()
+        .map(|i| i.rate_hz)
+        .min_by(f64::total_cmp)
+        .unwrap_or(import::resample::RATE_HZ);
+    for (p, i) in paths.iter().zip(imported.iter_mut()) {
+        if i.rate_hz != rate {
+            *i = read(
+                p,
+                &import::ImportOptions {
+                    rate_hz: Some(rate),
+                    ..*options
+                },
+            )?;
+        }
+    }
+    Ok(imported)
+}
+
+/// The same file given twice (by path or by content).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) if x == y => return true,
+        _ => {}
+    }
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) if x.len() == y.len() => {
+            matches!((std::fs::read(a), std::fs::read(b)), (Ok(x), Ok(y)) if x == y)
+        }
+        _ => false,
+    }
+}
+
+fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
+    let window = args.window;
     if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
         return Err(CliError::Window(window));
     }
-    let mut training = Vec::new();
-    for p in train {
-        training.extend(read(p, true)?);
+    if args.train.is_empty() {
+        return Err(CliError::NoLogs);
     }
-    let verification = read(verify, false)?
-        .into_iter()
-        .next()
-        .ok_or_else(|| CliError::NoSamples(verify.to_path_buf()))?;
-    if verification.len() < 2 {
-        return Err(CliError::TooFewSamples(verify.to_path_buf()));
+    let mut paths: Vec<&Path> = args.train.iter().map(PathBuf::as_path).collect();
+    if let Some(v) = &args.verify {
+        paths.push(v);
     }
-    let warm: Option<Vec<ModelParameters>> = warm_start.map(read_json).transpose()?;
+    let imported = read_all(&paths, &args.options)?;
+    let rate_hz = imported
+        .first()
+        .map_or(import::resample::RATE_HZ, |i| i.rate_hz);
+    let mut labelled = Vec::new();
+    for (path, im) in args.train.iter().zip(&imported) {
+        let used = import::segments_for_identify(im, true);
+        report_import(path, im, &used, args.full);
+        for (k, seg) in im.segments.iter().enumerate() {
+            if used.iter().any(|u| std::ptr::eq(*u, seg)) {
+                labelled.push(rotorid_cli::holdout::Labelled {
+                    file: path.display().to_string(),
+                    segment: k + 1,
+                    samples: seg.clone(),
+                });
+            }
+        }
+    }
+    let split = match (&args.verify, imported.last()) {
+        (Some(v), Some(im)) => {
+            let longest = im
+                .longest()
+                .ok_or_else(|| CliError::NoSamples(v.to_path_buf()))?;
+            report_import(v, im, &[longest], args.full);
+            if args.train.iter().any(|t| same_file(t, v)) {
+                eprintln!(
+                    "warning: {} is also a training log: the scores measure how well the models fit it, not how they predict; leave out --verify to hold part of the data out",
+                    v.display()
+                );
+            }
+            rotorid_cli::holdout::Split {
+                training: labelled.into_iter().map(|l| l.samples).collect(),
+                verification: longest.clone(),
+                how: format!("verified on {} (its longest segment)", v.display()),
+            }
+        }
+        _ => rotorid_cli::holdout::split(labelled, args.holdout)?,
+    };
+    let verify_name = args
+        .verify
+        .as_ref()
+        .map_or_else(|| "held-out data".to_string(), |v| v.display().to_string());
+    if split.verification.len() < 2 {
+        return Err(CliError::TooFewSamples(PathBuf::from(&verify_name)));
+    }
+    let training: Vec<Vec<rotorid::hover::HoverSample<f32>>> = split
+        .training
+        .iter()
+        .map(|s| flights::to_hover_samples(s))
+        .collect();
+    let verification = flights::to_hover_samples(&split.verification);
+    let warm: Option<Vec<ModelParameters>> =
+        args.warm_start.as_deref().map(read_json).transpose()?;
+    let out = args.out.as_path();
     std::fs::create_dir_all(out).map_err(|source| CliError::CreateDir {
         path: out.to_path_buf(),
         source,
     })?;
 
-    let gyro_noise = match gyro_noise {
+    let gyro_noise = match args.gyro_noise {
         GyroNoise::Auto => experiments::gyro_noise_of(&training),
         GyroNoise::None => None,
         GyroNoise::Given(sigma) => Some(sigma),
     };
-    if let Some([q, r, p]) = gyro_noise {
-        eprintln!(
-            "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
-        );
+    let n_train: usize = training.iter().map(Vec::len).sum();
+    eprintln!(
+        "identifying at {rate_hz} Hz: {:.1} s of training data in {} segment(s), {:.1} s to verify; {}",
+        n_train as f64 / rate_hz,
+        training.len(),
+        verification.len() as f64 / rate_hz,
+        split.how
+    );
+    if args.full {
+        if let Some([q, r, p]) = gyro_noise {
+            eprintln!(
+                "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
+            );
+        }
     }
-    if free_run_velocity == experiments::FreeRunVelocity::Measured {
+    if args.free_run_velocity == experiments::FreeRunVelocity::Measured {
         eprintln!("free runs on the measured velocity: the rates run free, the velocities do not");
     }
     let variants = experiments::variants();
-    let n_train: usize = training.iter().map(Vec::len).sum();
     let total = (n_train + verification.len()) * variants.len();
     let bar = ProgressBar::new(total as u64);
     bar.set_style(
@@ -704,11 +937,12 @@ fn run_identify(
         let settings = experiments::EvaluationSettings {
             window_s: window,
             gyro_noise,
-            velocity: free_run_velocity,
-            observer_gain: match observer_gain {
+            velocity: args.free_run_velocity,
+            observer_gain: match args.observer_gain {
                 ObserverGainArg::Auto => None,
                 ObserverGainArg::Given(gain) => Some(gain),
             },
+            rate_hz,
         };
         results.push(experiments::evaluate(
             v,
@@ -728,16 +962,16 @@ fn run_identify(
         (Some(f), Some(p)) => Some(Table4::new(f.one_step, p.one_step)),
         _ => None,
     };
-    println!(
-        "Table 4 analogue: mean absolute one-step error over {} (θ frozen after training on {} samples)\n",
-        verify.display(),
-        n_train
-    );
-    if let Some(t) = &table4 {
-        print!("{}", experiments::format_table4(&t.fuzzy, &t.plain));
+    if args.full {
+        println!(
+            "Table 4 analogue: mean absolute one-step error over {verify_name} (θ frozen after training on {n_train} samples)\n"
+        );
+        if let Some(t) = &table4 {
+            print!("{}", experiments::format_table4(&t.fuzzy, &t.plain));
+        }
+        println!();
+        print!("{}", report::format_variants(&results, window));
     }
-    println!();
-    print!("{}", report::format_variants(&results, window));
 
     for r in &results {
         let name = r.name.replace(' ', "-");
@@ -749,31 +983,77 @@ fn run_identify(
     // f32 against f64 for the extended structures (issue 5): same logs, same settings.
     let precision =
         rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(CliError::Precision)?;
-    for p in &precision {
-        println!(
-            "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",
-            p.variant, p.compared, p.parameters, p.max_relative, p.median_relative
-        );
+    if args.full {
+        for p in &precision {
+            println!(
+                "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",
+                p.variant, p.compared, p.parameters, p.max_relative, p.median_relative
+            );
+        }
+    }
+    let verdict = rotorid_cli::verdict::verdict(&results, &split.training, rate_hz);
+    if let Some(v) = &verdict {
+        print!("{}", rotorid_cli::verdict::format_verdict(v, window));
     }
     let metrics = Metrics {
         precision,
-        training_files: train.iter().map(|p| p.display().to_string()).collect(),
+        training_files: args.train.iter().map(|p| p.display().to_string()).collect(),
         training_samples: n_train,
-        verification_file: verify.display().to_string(),
+        verification_file: verify_name,
         verification_samples: verification.len(),
         window_s: window,
         gyro_noise_deg_s: gyro_noise,
-        free_run_velocity,
+        free_run_velocity: args.free_run_velocity,
         states: report::state_labels(),
         variants: results,
         table4,
+        rate_hz,
+        split: split.how.clone(),
+        logs: paths
+            .iter()
+            .zip(&imported)
+            .map(|(p, im)| report::LogSummary::of(&p.display().to_string(), im))
+            .collect(),
+        verdict,
     };
     write_json(&out.join("metrics.json"), &metrics)?;
-    if !no_plots {
-        let figs = report::write_figures(out, &verification, &metrics.variants, plot_span)?;
-        eprintln!("wrote {} figures to {}", figs.len(), out.display());
+    let mut figures = 0;
+    if !args.no_plots {
+        // The model to fly and the linear baseline; every variant with --full.
+        let mut shown: Vec<&str> = metrics
+            .verdict
+            .as_ref()
+            .map(|v| v.model.as_str())
+            .into_iter()
+            .chain([rotorid_cli::verdict::BASELINE])
+            .collect();
+        shown.dedup();
+        if args.full {
+            shown = metrics
+                .variants
+                .iter()
+                .map(|v| v.name.as_str())
+                .take(5)
+                .collect();
+        }
+        figures = report::write_figures(
+            out,
+            &verification,
+            &metrics.variants,
+            &shown,
+            args.plot_span,
+        )?
+        .len();
     }
-    eprintln!("wrote metrics.json and params-*.json to {}", out.display());
+    println!(
+        "Files: {}: metrics.json (every variant, the import's cuts and rates), params-*.json{}",
+        out.display(),
+        if figures > 0 {
+            format!(", {figures} figures")
+        } else {
+            String::new()
+        }
+    );
     Ok(())
 }
 

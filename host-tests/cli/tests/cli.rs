@@ -72,7 +72,7 @@ fn end_to_end_on_a_short_flight() {
 
     let out = dir.join("out");
     let o = run(bin()
-        .args(["identify", "--train"])
+        .args(["identify", "--full", "--train"])
         .arg(&train)
         .arg("--verify")
         .arg(&verify)

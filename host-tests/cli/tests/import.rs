@@ -34,9 +34,40 @@ fn heli_flight(seconds: f64) -> Vec<SensorSample> {
     s
 }
 
+/// The real log's position and controls are logged at about 10 Hz: it is identified at
+/// 10 Hz, with a warning that says which channels are slow and which PX4 setting logs faster.
+#[test]
+fn real_px4_log_is_identified_at_its_own_rate() {
+    let imported = import::import(&real_log()).expect("imports");
+    assert_eq!(imported.rate_hz, 10.0);
+    let rates = imported.native_rates.expect("native rates");
+    assert!(
+        rates.velocity.is_some_and(|r| (9.0..11.0).contains(&r)),
+        "{rates:?}"
+    );
+    assert!(rates.attitude.is_some_and(|r| r > 20.0), "{rates:?}");
+    assert!(
+        imported
+            .warnings
+            .iter()
+            .any(|w| w.contains("velocity 9.") && w.contains("SDLOG_PROFILE")),
+        "{:?}",
+        imported.warnings
+    );
+    for seg in &imported.segments {
+        for w in seg.windows(2) {
+            assert!(((w[1].t - w[0].t) - 0.1).abs() < 1.5e-6);
+        }
+    }
+}
+
 #[test]
 fn real_px4_log_maps_resamples_and_splits() {
-    let imported = import::import(&real_log()).expect("imports");
+    let options = import::ImportOptions {
+        rate_hz: Some(50.0),
+        ..Default::default()
+    };
+    let imported = import::import_with(&real_log(), &options).expect("imports");
     assert_eq!(imported.format, LogFormat::ULog);
     // The log has holes: several segments, reported in a note.
     assert!(imported.segments.len() > 1, "{}", imported.segments.len());
@@ -280,7 +311,7 @@ fn cli_convert_and_identify_on_ulog_and_dataflash() {
     std::fs::write(&verify, synth::dataflash(&verify_flight, true)).expect("write");
 
     let o = bin()
-        .args(["identify", "--no-plots", "--train"])
+        .args(["identify", "--no-plots", "--full", "--train"])
         .arg(&train)
         .arg("--verify")
         .arg(&verify)

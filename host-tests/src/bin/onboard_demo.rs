@@ -316,6 +316,7 @@ fn run() -> Result<(), DemoError> {
             gyro_noise,
             velocity: FreeRunVelocity::Model,
             observer_gain: None,
+            rate_hz: f64::from(rotorid_sim::flights::SAMPLE_RATE_HZ),
         };
         host.push(evaluate(
             &v,

@@ -76,6 +76,21 @@ pub enum EvaluateError {
         #[source]
         source: ParametersError,
     },
+    /// The warm-start parameters predict the training log absurdly (a corrupt or foreign
+    /// params file): refused before anything is learnt from them.
+    #[error("{variant}: warm start refused: its one-step {state} error on the training log is {error:.3e}, against {hold:.3e} for holding the measured value (more than {ratio}× worse, or not finite): the parameters are not this helicopter's, or the file is damaged")]
+    WarmStartAbsurd {
+        /// The variant's name.
+        variant: &'static str,
+        /// The state (`v_x (m/s)` …).
+        state: &'static str,
+        /// The warm-started model's mean absolute one-step error.
+        error: f64,
+        /// The hold predictor's.
+        hold: f64,
+        /// [`WARM_START_MAX_RATIO`](super::WARM_START_MAX_RATIO).
+        ratio: f64,
+    },
     /// The gyro noise was refused (not finite, negative or beyond the rate range).
     #[error("{variant}: cannot compensate for the gyro noise")]
     Compensate {

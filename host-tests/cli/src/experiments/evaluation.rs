@@ -385,6 +385,68 @@ pub fn gyro_noise_of(training: &[Vec<HoverSample<f32>>]) -> Option<[f32; 3]> {
     noise.std_dev()
 }
 
+/// A warm start whose one-step error on the training log exceeds the hold predictor's by
+/// more than this factor (on any state, with a floor of [`WARM_START_FLOOR`]) is refused: a
+/// model learnt on this helicopter is within a small factor of hold even when poor; one
+/// thousand times worse is a damaged or foreign file.
+pub const WARM_START_MAX_RATIO: f64 = 100.0;
+
+/// Error below which a warm start is never called absurd (m/s, deg/s): hold errors of a
+/// still log are near zero.
+pub const WARM_START_FLOOR: f64 = 1.0;
+
+/// Samples of the first training log a warm start is checked on.
+const WARM_START_PROBE: usize = 500;
+
+/// Refuses warm-start parameters whose predictions on the first training log are absurd
+/// ([`WARM_START_MAX_RATIO`]).
+fn check_warm_start(
+    id: &dyn Identifier,
+    log: &[HoverSample<f32>],
+    variant: &'static str,
+) -> Result<(), EvaluateError> {
+    let n = log.len().min(WARM_START_PROBE);
+    let mut preds = Vec::with_capacity(n);
+    let mut refused = 0usize;
+    for k in 0..n.saturating_sub(1) {
+        let before = k
+            .checked_sub(1)
+            .and_then(|i| log.get(i))
+            .map(HoverSample::state);
+        let p = log
+            .get(k)
+            .and_then(|s| id.predict_after(before.as_ref(), s).ok());
+        refused += usize::from(p.is_none());
+        preds.push(p);
+    }
+    let actual: Vec<HoverState<f32>> = log[..n].iter().map(HoverSample::state).collect();
+    let error = one_step_mean_abs_errors(&preds, &actual);
+    let hold = mean_abs_errors(actual.iter().zip(actual.iter().skip(1)));
+    let labels = [
+        "v_x (m/s)",
+        "v_y (m/s)",
+        "v_z (m/s)",
+        "q (deg/s)",
+        "r (deg/s)",
+        "p (deg/s)",
+    ];
+    for i in 0..6 {
+        let limit = (WARM_START_MAX_RATIO * hold[i]).max(WARM_START_FLOOR);
+        // Half the predictions refused or more: the model leaves the core's limits at once.
+        let all_refused = refused > 0 && 2 * refused + 1 >= n;
+        if !(error[i].is_finite() && error[i] <= limit) || all_refused {
+            return Err(EvaluateError::WarmStartAbsurd {
+                variant,
+                state: labels[i],
+                error: if all_refused { f64::INFINITY } else { error[i] },
+                hold: hold[i],
+                ratio: WARM_START_MAX_RATIO,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// How [`evaluate`] runs its free runs and its observer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EvaluationSettings {
@@ -398,6 +460,21 @@ pub struct EvaluationSettings {
     /// The one-step observer's gain per state `[v_x v_y v_z q r p]` (`None`: each variant's
     /// own, found on the training logs by [`observer_gain`]).
     pub observer_gain: Option<[f32; 6]>,
+    /// The rate the logs are sampled at and the identifiers run at (Hz): 50 for the
+    /// simulator's flights, a real log's own rate when it is logged slower.
+    pub rate_hz: f64,
+}
+
+impl EvaluationSettings {
+    /// The identifiers' sample period (µs) at [`rate_hz`](Self::rate_hz).
+    pub fn period_us(&self) -> u32 {
+        let us = (1e6 / self.rate_hz).round();
+        if us.is_finite() && us >= 1.0 && us <= f64::from(u32::MAX) {
+            us as u32
+        } else {
+            1_000_000 / SAMPLE_RATE_HZ
+        }
+    }
 }
 
 /// Trains a fresh `variant` on `training` logs, freezes θ and verifies on `verification`:
@@ -414,15 +491,19 @@ pub fn evaluate(
     warm_start: Option<&[ModelParameters]>,
     progress: &mut dyn FnMut(),
 ) -> Result<VariantResult, EvaluateError> {
-    let mut id = (variant.build)(training).map_err(|source| EvaluateError::Build {
-        variant: variant.name,
-        source,
-    })?;
+    let mut id =
+        (variant.build)(training, settings.period_us()).map_err(|source| EvaluateError::Build {
+            variant: variant.name,
+            source,
+        })?;
     if let Some(p) = warm_start {
         id.load(p).map_err(|source| EvaluateError::WarmStart {
             variant: variant.name,
             source,
         })?;
+        if let Some(log) = training.first() {
+            check_warm_start(id.as_ref(), log, variant.name)?;
+        }
     }
     let training_stats = train(id.as_mut(), training, progress);
 
@@ -450,7 +531,7 @@ pub fn evaluate(
     let mut adapting = id.boxed_clone();
     let stats = train(adapting.as_mut(), &[verification.to_vec()], &mut || {});
 
-    let window = (settings.window_s * f64::from(SAMPLE_RATE_HZ)).round();
+    let window = (settings.window_s * settings.rate_hz).round();
     let window = if window.is_finite() && window >= 1.0 {
         window as usize
     } else {
@@ -508,7 +589,7 @@ pub fn evaluate(
         free_run_windows: free.windows,
         free_run_diverged: free.diverged,
         rejected_verification: rejected,
-        one_step_bias: one_step_bias(verification, &preds, 1.0 / f64::from(SAMPLE_RATE_HZ)),
+        one_step_bias: one_step_bias(verification, &preds, 1.0 / settings.rate_hz),
         one_step_predictions: preds,
         free_run_trace: free.trace,
         parameters: id.parameters(),

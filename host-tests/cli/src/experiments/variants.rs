@@ -363,9 +363,19 @@ where
     }
 }
 
+/// `config` at the sample period `period_us` (µs), with the same ±50 % tolerance as the
+/// defaults' 20 ms ± 10 ms.
+pub fn at(config: HoverConfig<f32>, period_us: u32) -> HoverConfig<f32> {
+    HoverConfig {
+        sample_period_us: period_us,
+        period_tolerance_us: period_us / 2,
+        ..config
+    }
+}
+
 /// Builds a fresh identifier from the training logs (which only variants that place their
-/// premise sets from data read).
-pub type BuildFn = fn(&[Vec<HoverSample<f32>>]) -> Result<Box<dyn Identifier>, rotorid::Error>;
+/// premise sets from data read) at a sample period (µs).
+pub type BuildFn = fn(&[Vec<HoverSample<f32>>], u32) -> Result<Box<dyn Identifier>, rotorid::Error>;
 
 /// A named identifier configuration to evaluate. Adding a variant is one entry in
 /// [`variants`].
@@ -393,63 +403,63 @@ pub fn variants() -> Vec<Variant> {
             name: "paper fuzzy",
             description:
                 "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6, unscaled",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
-                    HoverConfig::paper_robust(),
+                    at(HoverConfig::paper_robust(), period),
                 )?))
             },
         },
         Variant {
             name: "paper plain",
             description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6, unscaled",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
-                    HoverConfig::paper_robust(),
+                    at(HoverConfig::paper_robust(), period),
                 )?))
             },
         },
         Variant {
             name: "extended fuzzy",
             description: "rates + damping, collective torque, trim (Table 3 sets, 18+9+9 rules); velocity + drag, tail-rotor side force (v_y sets, 3 rules); U-D RLS, helicopter scaling",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                 )?))
             },
         },
         Variant {
             name: "extended plain",
             description: "the extended terms with one rule per model; U-D RLS, helicopter scaling",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(ExtendedPlainIdentifier::<f32>::extended_plain(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                 )?))
             },
         },
         Variant {
             name: "paper local",
             description: "paper fuzzy's structure and Table 3 sets, each rule its own weighted RLS (local learning)",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(PaperLocalIdentifier::<f32>::paper_local(
-                    HoverConfig::paper_robust(),
+                    at(HoverConfig::paper_robust(), period),
                 )?))
             },
         },
         Variant {
             name: "extended local",
             description: "extended fuzzy's structure and sets, each rule its own weighted RLS (local learning)",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(ExtendedLocalIdentifier::<f32>::extended_local(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                 )?))
             },
         },
         Variant {
             name: "flight",
             description: "the flight default (FlightIdentifier): extended terms + speed and second-order rate terms, 3 rules per model on forward speed (0, 5, 10 m/s, σ 2.5), local learning, helicopter scaling",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                     flight_sets(),
                 )?))
             },
@@ -457,38 +467,38 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "flight plain",
             description: "the flight default's terms (incl. speed and second-order rate terms) with one rule per model: what the rules add",
-            build: |_| {
+            build: |_, period| {
                 Ok(Box::new(FlightPlainIdentifier::<f32>::flight_plain(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                 )?))
             },
         },
         Variant {
             name: "flight extended velocity",
             description: "the flight default with the extended structure's translational model (VelocityStructure::Extended: drag in inertial axes on the sample's own velocity, thrust proportional to the collective): what the flight structure's translational terms add",
-            build: |_| Ok(Box::new(flight_with_extended_velocity()?)),
+            build: |_, period| Ok(Box::new(flight_with_extended_velocity(period)?)),
         },
         Variant {
             name: "flight first-order rates",
             description: "the flight default with the rate models' second-order term held at zero (each rule's η pinned by a zero prior variance): what that term buys in free run and costs at one step",
-            build: |_| Ok(Box::new(flight_with_first_order_rates()?)),
+            build: |_, period| Ok(Box::new(flight_with_first_order_rates(period)?)),
         },
         Variant {
             name: "flight proportional thrust",
             description: "the flight default with the translational model's thrust at zero collective held at zero (each rule's α0 pinned by a zero prior variance): the thrust proportional to the collective, as in Eq. 27; what the affine thrust buys",
-            build: |_| Ok(Box::new(flight_with_proportional_thrust()?)),
+            build: |_, period| Ok(Box::new(flight_with_proportional_thrust(period)?)),
         },
         Variant {
             name: "flight yaw on side speed",
             description: "the flight default with its yaw model scheduled on forward and side speed (3 x 3 rules; side sets at -5, 0, 5 m/s, σ 2.5): whether the yaw trim in sideways flight is a matter of scheduling",
-            build: |_| Ok(Box::new(flight_with_side_speed_yaw()?)),
+            build: |_, period| Ok(Box::new(flight_with_side_speed_yaw(period)?)),
         },
         Variant {
             name: "flight data sets",
             description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
-            build: |training| {
+            build: |training, period| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
-                    HoverConfig::default(),
+                    at(HoverConfig::default(), period),
                     forward_speed_sets(training)?,
                 )?))
             },
@@ -510,8 +520,10 @@ type ExtendedVelocityIdentifier = HoverIdentifier<
 /// (`VelocityStructure::Extended`: drag per inertial axis, thrust proportional to the
 /// collective) instead of the flight structure (drag along and across the heading, thrust
 /// affine in the collective); the same premise, sets, rate models and settings.
-fn flight_with_extended_velocity() -> Result<ExtendedVelocityIdentifier, rotorid::Error> {
-    let config = HoverConfig::default();
+fn flight_with_extended_velocity(
+    period: u32,
+) -> Result<ExtendedVelocityIdentifier, rotorid::Error> {
+    let config = at(HoverConfig::default(), period);
     let flight = FlightIdentifier::<f32>::flight(config, flight_sets())?;
     let structure = VelocityStructure::Extended;
     let velocity = LocalVelocityModel::<f32, 3, 7, 28>::with_scaling(
@@ -533,9 +545,10 @@ fn flight_with_extended_velocity() -> Result<ExtendedVelocityIdentifier, rotorid
 /// [`FlightIdentifier`] whose rate models learn without their second-order term `η Δω(k)`
 /// (index 6 of [`RateStructure::Flight`]'s terms; see [`pin_to_zero`]). Everything else is the
 /// flight default's.
-fn flight_with_first_order_rates() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+fn flight_with_first_order_rates(period: u32) -> Result<FlightIdentifier<f32>, rotorid::Error> {
     const SECOND_ORDER: usize = 6;
-    let mut flight = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
+    let mut flight =
+        FlightIdentifier::<f32>::flight(at(HoverConfig::default(), period), flight_sets())?;
     let mut snapshot = flight.export();
     for model in [&mut snapshot.pitch, &mut snapshot.yaw, &mut snapshot.roll] {
         pin_to_zero(model, SECOND_ORDER);
@@ -548,9 +561,10 @@ fn flight_with_first_order_rates() -> Result<FlightIdentifier<f32>, rotorid::Err
 /// collective `α0` (index 7 of [`VelocityStructure::Flight`]'s terms; see [`pin_to_zero`]): the
 /// thrust proportional to the collective, as in Eq. 27. Everything else is the flight
 /// default's.
-fn flight_with_proportional_thrust() -> Result<FlightIdentifier<f32>, rotorid::Error> {
+fn flight_with_proportional_thrust(period: u32) -> Result<FlightIdentifier<f32>, rotorid::Error> {
     const AFFINE_THRUST: usize = 7;
-    let mut flight = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets())?;
+    let mut flight =
+        FlightIdentifier::<f32>::flight(at(HoverConfig::default(), period), flight_sets())?;
     let mut snapshot = flight.export();
     pin_to_zero(&mut snapshot.velocity, AFFINE_THRUST);
     flight.import(&snapshot)?;
@@ -585,8 +599,8 @@ type SideSpeedYawIdentifier = HoverIdentifier<
 /// sets times three side-speed sets (left shoulder at −5 m/s, Gaussian at 0, right shoulder at
 /// 5 m/s, σ = 2.5 m/s: the forward sets' spacing and spread), 9 rules learnt locally; the
 /// other models, the terms and the settings are the flight default's.
-fn flight_with_side_speed_yaw() -> Result<SideSpeedYawIdentifier, rotorid::Error> {
-    let config = HoverConfig::default();
+fn flight_with_side_speed_yaw(period: u32) -> Result<SideSpeedYawIdentifier, rotorid::Error> {
+    let config = at(HoverConfig::default(), period);
     let flight = FlightIdentifier::<f32>::flight(config, flight_sets())?;
     let side = rotorid::hover::table3::three_sets((-5.0, 2.5), (0.0, 2.5), (5.0, 2.5));
     let rules = RuleBase::new([flight_sets(), side, PremiseSets::new()])?;
@@ -639,7 +653,7 @@ mod tests {
     fn first_order_rates_hold_eta_at_zero_and_learn_the_rest() {
         let log = rotorid_sim::flights::identification_flight_for(1, 20.0).unwrap();
         let samples = rotorid_sim::flights::to_hover_samples(&log);
-        let mut pinned = flight_with_first_order_rates().unwrap();
+        let mut pinned = flight_with_first_order_rates(20_000).unwrap();
         let mut flight =
             FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
         for s in &samples {

@@ -8,6 +8,7 @@
 //! at 50 Hz; at another rate (its mean interval off by more than
 //! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
 
+pub mod clean;
 pub mod dataflash;
 pub mod resample;
 pub mod synth;
@@ -17,7 +18,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::log::{self, LogErrorKind};
-pub use resample::{Channels, Segment, Series};
+pub use clean::{ImportOptions, InAirSource, NativeRates};
+pub use resample::{Channels, Cut, Segment, Series};
 use rotorid_sim::plant::SensorSample;
 
 /// A log's format, from its first bytes.
@@ -98,21 +100,41 @@ pub enum ImportError {
     Log(#[from] log::LogError),
 }
 
-/// An imported log: its segments (each gap-free, at 50 Hz) and remarks for the user.
+/// An imported log: its segments (each gap-free, at [`rate_hz`](Self::rate_hz)) and remarks
+/// for the user.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imported {
     /// Format read.
     pub format: LogFormat,
     /// Gap-free stretches in log order.
     pub segments: Vec<Segment>,
-    /// Remarks (truncation, segments dropped, sources chosen).
+    /// Remarks (truncation, segments dropped, sources chosen, cuts, rates).
     pub notes: Vec<String>,
+    /// Warnings: what makes the identification less trustworthy (channels logged too slowly).
+    pub warnings: Vec<String>,
+    /// The rate the segments are sampled at (Hz).
+    pub rate_hz: f64,
+    /// Each channel's native logging rate (`None` for a CSV log taken as it is).
+    pub native_rates: Option<NativeRates>,
+    /// What was left out, and why (implausible stretches, ground time, `--from`/`--to`).
+    pub cuts: Vec<Cut>,
+    /// Where the ground time came from (`None`: not looked for, as for CSV logs, or
+    /// replaced by `--from`/`--to`).
+    pub in_air: Option<InAirSource>,
 }
 
 impl Imported {
     /// The longest segment (the first of equals).
     pub fn longest(&self) -> Option<&Segment> {
         self.segments.iter().rev().max_by_key(|s| s.len())
+    }
+
+    /// Seconds of data in the segments.
+    pub fn duration_s(&self) -> f64 {
+        self.segments
+            .iter()
+            .map(|s| s.len().saturating_sub(1) as f64 / self.rate_hz)
+            .sum()
     }
 }
 
@@ -143,78 +165,228 @@ pub fn detect(head: &[u8]) -> LogFormat {
     }
 }
 
-/// Reads a log of any supported format.
+/// Reads a log of any supported format, prepared for identification as
+/// [`ImportOptions::default`] says (the log's own rate, ground time trimmed).
 pub fn import(path: &Path) -> Result<Imported, ImportError> {
-    let file = path.display().to_string();
+    import_with(path, &ImportOptions::default())
+}
+
+/// What a format's reader gives: a CSV log at 50 Hz taken as it is, or channels to resample.
+enum Read {
+    AsIs(Vec<SensorSample>, Vec<String>),
+    Channels(Box<Channels>, Vec<String>),
+}
+
+/// Reads the channels of a log (the format's reader), or a 50 Hz CSV log as it is.
+fn read_log(path: &Path, file: &str) -> Result<(LogFormat, Read), ImportError> {
     let bytes = std::fs::read(path).map_err(|e| ImportError::Read {
-        file: file.clone(),
+        file: file.to_string(),
         source: Arc::new(e),
     })?;
     let format = detect(&bytes);
-    let (channels, mut notes) = match format {
-        LogFormat::ULog => ulog::channels(&file, path)?,
-        LogFormat::DataFlash => dataflash::channels(&file, &bytes)?,
+    let (channels, notes) = match format {
+        LogFormat::ULog => ulog::channels(file, path)?,
+        LogFormat::DataFlash => dataflash::channels(file, &bytes)?,
         LogFormat::Csv => {
-            let samples = log::parse_log(&file, bytes.as_slice())?;
+            let (samples, mut notes) = log::parse_log_noted(file, bytes.as_slice())?;
             let Some(rate) = resample::other_rate(&samples) else {
-                return Ok(Imported {
-                    format,
-                    segments: vec![samples],
-                    notes: Vec::new(),
-                });
+                return Ok((format, Read::AsIs(samples, notes)));
             };
-            let note = format!(
-                "{file}: sampled at {rate:.1} Hz, not {} Hz: resampled at {} Hz (states interpolated linearly, controls held)",
-                resample::RATE_HZ,
+            notes.push(format!(
+                "{file}: sampled at {rate:.1} Hz, not {} Hz: resampled (states interpolated linearly, controls held)",
                 resample::RATE_HZ
-            );
-            (Channels::of_samples(&samples), vec![note])
+            ));
+            (Channels::of_samples(&samples), notes)
         }
     };
-    let segments = resample::resample(&channels);
-    if segments.is_empty() {
-        return Err(ImportError::NoSegment {
+    Ok((format, Read::Channels(Box::new(channels), notes)))
+}
+
+/// Reads a log of any supported format and prepares it for identification: implausible
+/// stretches and ground time cut out (or everything outside `--from`/`--to`), time-stamp
+/// glitches repaired, resampled at the identification rate, split at gaps; every cut and
+/// repair in a note.
+pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, ImportError> {
+    let file = path.display().to_string();
+    let (format, read) = read_log(path, &file)?;
+    let (mut channels, mut notes) = match read {
+        Read::AsIs(samples, notes) => {
+            return as_is(&file, format, samples, notes, options);
+        }
+        Read::Channels(ch, notes) => (*ch, notes),
+    };
+    for (name, glitches) in [
+        ("attitude", &channels.attitude.glitches),
+        ("velocity", &channels.velocity_ned.glitches),
+        ("body rates", &channels.rates_frd.glitches),
+        ("controls", &channels.controls.glitches),
+    ] {
+        notes.extend(clean::glitch_notes(&file, name, glitches));
+    }
+    let native = NativeRates::of(&channels);
+    let rate_hz = options
+        .rate_hz
+        .unwrap_or_else(|| clean::identification_rate(&native));
+    let mut warnings = Vec::new();
+    let slow: Vec<String> = native
+        .named()
+        .iter()
+        .filter_map(|(name, r)| {
+            let r = (*r)?;
+            (r < rate_hz * 0.95 || r < resample::RATE_HZ * 0.95)
+                .then(|| format!("{name} {r:.1} Hz"))
+        })
+        .collect();
+    if !slow.is_empty() {
+        let what = if rate_hz < resample::RATE_HZ {
+            format!("identified at {rate_hz} Hz, the rate the log supports, not 50 Hz")
+        } else {
+            format!("identified at {rate_hz} Hz (--rate): the slower channels are interpolated")
+        };
+        warnings.push(format!(
+            "{file}: logged below 50 Hz: {}; {what}. {}",
+            slow.join(", "),
+            clean::rate_advice(format)
+        ));
+    }
+    let mut cuts = clean::implausible_cuts(&mut channels);
+    let in_air = if options.from_s.is_some() || options.to_s.is_some() {
+        cuts.extend(clean::window_cuts(options.from_s, options.to_s));
+        None
+    } else {
+        let (ground, source) = clean::ground_cuts(&channels);
+        cuts.extend(ground);
+        Some(source)
+    };
+    cuts.sort_by(|a, b| a.from_s.total_cmp(&b.from_s));
+    for c in &cuts {
+        notes.push(format!("{file}: cut {}", clean::describe(c)));
+    }
+    let mut segments = Vec::new();
+    for seg in resample::resample_at(&channels, rate_hz, &cuts) {
+        segments.extend(split_failing(&file, seg, &mut notes));
+    }
+    finish(
+        &file,
+        Imported {
+            format,
+            segments,
+            notes,
+            warnings,
+            rate_hz,
+            native_rates: Some(native),
+            cuts,
+            in_air,
+        },
+    )
+}
+
+/// A 50 Hz CSV log: taken as it is (its rows were checked on reading), within
+/// `--from`/`--to`; a `--rate` other than 50 Hz resamples it.
+fn as_is(
+    file: &str,
+    format: LogFormat,
+    samples: Vec<SensorSample>,
+    mut notes: Vec<String>,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    if options.rate_hz.is_some_and(|r| r != resample::RATE_HZ)
+        || options.from_s.is_some()
+        || options.to_s.is_some()
+    {
+        let rate_hz = options.rate_hz.unwrap_or(resample::RATE_HZ);
+        let cuts = clean::window_cuts(options.from_s, options.to_s);
+        let segments = resample::resample_at(&Channels::of_samples(&samples), rate_hz, &cuts);
+        notes.extend(
+            cuts.iter()
+                .map(|c| format!("{file}: cut {}", clean::describe(c))),
+        );
+        return finish(
             file,
+            Imported {
+                format,
+                segments,
+                notes,
+                warnings: Vec::new(),
+                rate_hz,
+                native_rates: None,
+                cuts,
+                in_air: None,
+            },
+        );
+    }
+    Ok(Imported {
+        format,
+        segments: vec![samples],
+        notes,
+        warnings: Vec::new(),
+        rate_hz: resample::RATE_HZ,
+        native_rates: None,
+        cuts: Vec::new(),
+        in_air: None,
+    })
+}
+
+/// Lists the segments in a note (when several), or says there is none.
+fn finish(file: &str, mut imported: Imported) -> Result<Imported, ImportError> {
+    if imported.segments.is_empty() {
+        return Err(ImportError::NoSegment {
+            file: file.to_string(),
             max_gap_s: resample::MAX_SOURCE_GAP_S,
         });
     }
-    if segments.len() > 1 {
-        let list: Vec<String> = segments
+    if imported.segments.len() > 1 {
+        let list: Vec<String> = imported
+            .segments
             .iter()
             .map(|s| {
                 let (a, b) = (s[0].t, s.last().map_or(s[0].t, |x| x.t));
                 format!("{a:.2}–{b:.2} s ({} samples)", s.len())
             })
             .collect();
-        notes.push(format!(
-            "{file}: split at gaps over {} s into {} segments: {}",
+        imported.notes.push(format!(
+            "{file}: {} segments (split at gaps over {} s and at cuts): {}",
+            imported.segments.len(),
             resample::MAX_SOURCE_GAP_S,
-            segments.len(),
             list.join(", ")
         ));
     }
-    for seg in &segments {
-        check(&file, seg)?;
-    }
-    Ok(Imported {
-        format,
-        segments,
-        notes,
-    })
+    Ok(imported)
 }
 
-/// The CSV format's value checks on a resampled segment (the rate-unit comparison with the
-/// attitude is among [`log::warnings`], printed by the tool).
-fn check(file: &str, seg: &[SensorSample]) -> Result<(), ImportError> {
+/// Splits a resampled segment at every sample that fails the CSV format's value checks
+/// (cutting it out, with a note), rather than refusing the log.
+fn split_failing(file: &str, seg: Segment, notes: &mut Vec<String>) -> Vec<Segment> {
+    let mut out = Vec::new();
+    let mut current = Vec::new();
     for s in seg {
-        for (k, x) in log::values(s).into_iter().enumerate() {
-            log::check_range(k, x).map_err(|kind| ImportError::Check {
-                file: file.to_string(),
-                t: s.t,
-                column: log::COLUMNS[k],
-                kind,
-            })?;
+        match check(file, &s) {
+            Ok(()) => current.push(s),
+            Err(e) => {
+                notes.push(format!("{e}: cut there"));
+                if current.len() > 1 {
+                    out.push(std::mem::take(&mut current));
+                }
+                current.clear();
+            }
         }
+    }
+    if current.len() > 1 {
+        out.push(current);
+    }
+    out
+}
+
+/// The CSV format's value checks on one resampled sample (the rate-unit comparison with the
+/// attitude is among [`log::warnings`], printed by the tool).
+fn check(file: &str, s: &SensorSample) -> Result<(), ImportError> {
+    for (k, x) in log::values(s).into_iter().enumerate() {
+        log::check_range(k, x).map_err(|kind| ImportError::Check {
+            file: file.to_string(),
+            t: s.t,
+            column: log::COLUMNS[k],
+            kind,
+        })?;
     }
     Ok(())
 }

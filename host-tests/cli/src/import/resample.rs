@@ -25,16 +25,150 @@ pub struct Series<const N: usize> {
     pub t: Vec<f64>,
     /// Values at the time stamps.
     pub v: Vec<[f64; N]>,
+    /// The time-stamp glitches [`push`](Self::push) repaired or cut, in log order.
+    pub glitches: Vec<TimeGlitch>,
 }
 
+/// A time stamp out of order in a channel, and what [`Series::push`] did about it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TimeGlitch {
+    /// A run of samples stamped in the future (a jump forward by more than a gap, then back):
+    /// the run is dropped and the channel goes on from the sample after it.
+    Spike {
+        /// Time of the last good sample before the run (s).
+        at_s: f64,
+        /// The run's first (wrong) time stamp (s).
+        to_s: f64,
+        /// Samples dropped.
+        dropped: usize,
+    },
+    /// Time went back over more history than a spike (a clock reset): the samples stamped
+    /// before the channel's latest time are dropped until time passes it again.
+    Backwards {
+        /// The channel's latest time when it happened (s).
+        at_s: f64,
+        /// Samples dropped.
+        dropped: usize,
+    },
+}
+
+/// Most samples a [`TimeGlitch::Spike`] drops; a longer run ahead in time is taken as the
+/// truth and the later, earlier-stamped samples as the glitch ([`TimeGlitch::Backwards`]).
+pub const MAX_SPIKE_SAMPLES: usize = 50;
+
 impl<const N: usize> Series<N> {
-    /// Appends a sample, dropping it when not finite or not after the previous one.
+    /// Appends a sample in log order. A non-finite sample is dropped (it counts as missing:
+    /// a gap where there are several). A time stamp at or before the previous one is a
+    /// glitch: when the samples after it are a short run stamped ahead of time (a jump
+    /// forward by more than a gap, at most [`MAX_SPIKE_SAMPLES`]), that run is dropped;
+    /// otherwise this sample is. Either way it is recorded in
+    /// [`glitches`](Self::glitches), so that one bad time stamp costs a few samples, never the
+    /// rest of the channel.
     pub fn push(&mut self, t: f64, v: [f64; N]) {
-        let later = self.t.last().is_none_or(|&last| t > last);
-        if later && t.is_finite() && v.iter().all(|x| x.is_finite()) {
-            self.t.push(t);
-            self.v.push(v);
+        if !(t.is_finite() && v.iter().all(|x| x.is_finite())) {
+            return;
         }
+        if self.t.last() == Some(&t) {
+            // The same instant logged twice: keep the first.
+            return;
+        }
+        if self.t.last().is_some_and(|&last| t < last) {
+            let keep = self.t.partition_point(|&x| x < t);
+            let run = self.t.len() - keep;
+            let jumped = keep
+                .checked_sub(1)
+                .and_then(|i| Some(self.t.get(keep)? - self.t.get(i)?))
+                .is_some_and(|dt| dt > MAX_SOURCE_GAP_S);
+            let at_s = keep
+                .checked_sub(1)
+                .and_then(|i| self.t.get(i).copied())
+                .unwrap_or(t);
+            let to_s = self.t.get(keep).copied().unwrap_or(t);
+            let equal = self.t.get(keep).is_some_and(|&x| x == t);
+            if !equal && jumped && run <= MAX_SPIKE_SAMPLES {
+                self.t.truncate(keep);
+                self.v.truncate(keep);
+                self.glitches.push(TimeGlitch::Spike {
+                    at_s,
+                    to_s,
+                    dropped: run,
+                });
+            } else {
+                let latest = self.t.last().copied().unwrap_or(t);
+                match self.glitches.last_mut() {
+                    Some(TimeGlitch::Backwards { at_s, dropped }) if *at_s == latest => {
+                        *dropped += 1;
+                    }
+                    _ => self.glitches.push(TimeGlitch::Backwards {
+                        at_s: latest,
+                        dropped: 1,
+                    }),
+                }
+                return;
+            }
+        }
+        self.t.push(t);
+        self.v.push(v);
+    }
+
+    /// The channel's native logging rate (Hz): the inverse of its median sample interval;
+    /// `None` below two samples.
+    pub fn native_rate_hz(&self) -> Option<f64> {
+        let mut dt: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();
+        if dt.is_empty() {
+            return None;
+        }
+        dt.sort_by(f64::total_cmp);
+        let median = dt[dt.len() / 2];
+        (median > 0.0).then(|| 1.0 / median)
+    }
+
+    /// Drops the samples for which `bad` gives a reason, and returns each stretch dropped as a
+    /// [`Cut`] with the first sample's reason. [`spans`] splits the log there.
+    pub fn drop_where(&mut self, bad: impl Fn(&[f64; N]) -> Option<String>) -> Vec<Cut> {
+        let mut cuts: Vec<Cut> = Vec::new();
+        let mut keep = vec![true; self.t.len()];
+        let mut open = false;
+        let mut last_good: Option<f64> = None;
+        for (k, (t, v)) in self.t.iter().zip(&self.v).enumerate() {
+            match bad(v) {
+                Some(reason) => {
+                    keep[k] = false;
+                    match cuts.last_mut() {
+                        Some(c) if open => c.to_s = *t,
+                        _ => cuts.push(Cut {
+                            from_s: *t,
+                            to_s: *t,
+                            gap: (last_good.unwrap_or(*t), f64::INFINITY),
+                            reason,
+                        }),
+                    }
+                    open = true;
+                }
+                None => {
+                    if open {
+                        if let Some(c) = cuts.last_mut() {
+                            c.gap.1 = *t;
+                        }
+                    }
+                    open = false;
+                    last_good = Some(*t);
+                }
+            }
+        }
+        if !cuts.is_empty() {
+            let mut k = 0;
+            self.t.retain(|_| {
+                k += 1;
+                keep[k - 1]
+            });
+            let mut k = 0;
+            self.v.retain(|_| {
+                k += 1;
+                keep[k - 1]
+            });
+        }
+        cuts
     }
 
     /// Gaps `(from, to)` longer than [`MAX_SOURCE_GAP_S`].
@@ -79,6 +213,20 @@ pub fn merge_held<const N: usize, const M: usize, const K: usize>(
         }
     }
     out
+}
+
+/// A stretch of the log left out, with why: the log is split there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cut {
+    /// First time left out (s).
+    pub from_s: f64,
+    /// Last time left out (s).
+    pub to_s: f64,
+    /// The channel's good samples around the cut (s): the log ends at the first and resumes
+    /// at the second (infinite when nothing follows).
+    pub gap: (f64, f64),
+    /// Why.
+    pub reason: String,
 }
 
 /// A log's channels in the flight computer's convention, before resampling.
@@ -163,8 +311,8 @@ fn wrap_pi(x: f64) -> f64 {
     }
 }
 
-/// The spans `(start, end)` where every channel has data without a gap.
-pub fn spans(ch: &Channels) -> Vec<(f64, f64)> {
+/// The spans `(start, end)` where every channel has data without a gap, and outside `cuts`.
+pub fn spans(ch: &Channels, cuts: &[Cut]) -> Vec<(f64, f64)> {
     let firsts = [
         ch.attitude.t.first(),
         ch.velocity_ned.t.first(),
@@ -191,6 +339,7 @@ pub fn spans(ch: &Channels) -> Vec<(f64, f64)> {
         .chain(ch.velocity_ned.gaps())
         .chain(ch.rates_frd.gaps())
         .chain(ch.controls.gaps())
+        .chain(cuts.iter().map(|c| c.gap))
         .collect();
     gaps.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut out = Vec::new();
@@ -210,14 +359,19 @@ pub fn spans(ch: &Channels) -> Vec<(f64, f64)> {
 /// Resamples every gap-free span at [`RATE_HZ`] (see the module documentation), longest
 /// spans kept in log order; spans shorter than one step are dropped.
 pub fn resample(ch: &Channels) -> Vec<Segment> {
+    resample_at(ch, RATE_HZ, &[])
+}
+
+/// Resamples every gap-free span outside `cuts` at `rate_hz`, as [`resample`].
+pub fn resample_at(ch: &Channels, rate_hz: f64, cuts: &[Cut]) -> Vec<Segment> {
     let attitude = unwrap_yaw(&ch.attitude);
     let mut out = Vec::new();
-    for (start, end) in spans(ch) {
+    for (start, end) in spans(ch, cuts) {
         let mut cursors = [0usize; 4];
         let mut seg = Vec::new();
         for k in 0u32.. {
             // On whole microseconds (log time stamps are µs), so the CSV stays readable.
-            let t = ((start + f64::from(k) / RATE_HZ) * 1e6).round() / 1e6;
+            let t = ((start + f64::from(k) / rate_hz) * 1e6).round() / 1e6;
             if t > end {
                 break;
             }

@@ -6,7 +6,6 @@ use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 use rotorid::hover::{HoverSample, HoverState};
 
-use super::*;
 use crate::experiments::*;
 
 const COLORS: [RGBColor; 6] = [
@@ -17,6 +16,9 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
 ];
+
+/// Width of the legend beside each panel (px).
+const LEGEND_WIDTH: u32 = 260;
 
 /// One line of a panel: name, colour index, points (gaps where `None`).
 struct Series {
@@ -90,7 +92,9 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), FigureE
             (x0, x1, y0, y1) = (0.0, 1.0, -1.0, 1.0);
         }
         let pad = ((y1 - y0) * 0.05).max(1e-6);
-        let mut chart = ChartBuilder::on(area)
+        // The legend beside the chart, never over the data.
+        let (plot, legend) = area.split_horizontally(1400 - LEGEND_WIDTH);
+        let mut chart = ChartBuilder::on(&plot)
             .margin(8)
             .x_label_area_size(30)
             .y_label_area_size(70)
@@ -103,31 +107,28 @@ fn plot_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), FigureE
             .light_line_style(WHITE.mix(0.0))
             .draw()
             .map_err(e)?;
-        for s in &panel.series {
+        for (k, s) in panel.series.iter().enumerate() {
             let color = COLORS[s.color % COLORS.len()];
-            let mut first = true;
             for segment in s.points.split(Option::is_none) {
                 if segment.is_empty() {
                     continue;
                 }
                 let line =
-                    LineSeries::new(segment.iter().flatten().copied(), color.stroke_width(1));
-                let drawn = chart.draw_series(line).map_err(e)?;
-                if first {
-                    drawn
-                        .label(s.name.as_str())
-                        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
-                    first = false;
-                }
+                    LineSeries::new(segment.iter().flatten().copied(), color.stroke_width(2));
+                chart.draw_series(line).map_err(e)?;
             }
+            let y = 24 + 22 * i32::try_from(k).unwrap_or(0);
+            legend
+                .draw(&PathElement::new([(8, y), (36, y)], color.stroke_width(3)))
+                .map_err(e)?;
+            legend
+                .draw(&Text::new(
+                    s.name.as_str(),
+                    (44, y - 8),
+                    ("sans-serif", 15).into_font().color(&BLACK),
+                ))
+                .map_err(e)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
     }
     root.present().map_err(e)?;
     Ok(())
@@ -186,21 +187,31 @@ fn estimate(
     }
 }
 
-/// Writes the figures into `dir`:
+/// Writes the figures into `dir`, each line one of the `shown` variants (by name, in that
+/// order; the first variant when none is found), so that a panel holds a few lines:
 ///
 /// * `fig2_velocity.png`, `fig3_rates.png`: actual against the one-step estimates of the
-///   first variant (θ frozen), as the paper's Figures 2 and 3;
-/// * `fig4_velocity_error.png`, `fig5_rate_error.png`: actual − estimate of every variant,
-///   as Figures 4 and 5;
-/// * `fig6_free_run.png`: the rates against the free-run estimates of every variant.
+///   first shown variant (θ frozen), as the paper's Figures 2 and 3;
+/// * `fig4_velocity_error.png`, `fig5_rate_error.png`: actual − estimate of each shown
+///   variant, as Figures 4 and 5;
+/// * `fig6_free_run.png`: the rates against the free-run estimates of each shown variant.
 ///
 /// `span_s` limits the plots to the first seconds of the flight (all of it if `None`).
 pub fn write_figures(
     dir: &Path,
     samples: &[HoverSample<f32>],
-    variants: &[VariantResult],
+    all: &[VariantResult],
+    shown: &[&str],
     span_s: Option<f64>,
 ) -> Result<Vec<PathBuf>, FigureError> {
+    let mut variants: Vec<VariantResult> = shown
+        .iter()
+        .filter_map(|n| all.iter().find(|v| v.name == *n).cloned())
+        .collect();
+    if variants.is_empty() {
+        variants.extend(all.first().cloned());
+    }
+    let variants = variants.as_slice();
     let n = match span_s {
         Some(s) => samples
             .iter()
@@ -219,11 +230,19 @@ pub fn write_figures(
             a
         })
         .collect();
-    let labels = state_labels();
+    // The paper's axes named in the autopilot's terms (x east, y up, z south).
+    let labels = [
+        "east velocity v_x (m/s)",
+        "up velocity v_y (m/s)",
+        "south velocity v_z (m/s)",
+        "pitch rate q (deg/s)",
+        "yaw rate r (deg/s)",
+        "roll rate p (deg/s)",
+    ];
     let mut written = Vec::new();
     let figures: [(&str, &str, std::ops::Range<usize>, bool); 4] = [
-        ("fig2_velocity.png", "Fig. 2 analogue: actual and estimated (one-step, θ frozen) velocities, verification flight", 0..3, false),
-        ("fig3_rates.png", "Fig. 3 analogue: actual and estimated (one-step, θ frozen) angular velocities, verification flight", 3..6, false),
+        ("fig2_velocity.png", "Fig. 2 analogue: actual and estimated (one-step, θ frozen) velocities, verification data", 0..3, false),
+        ("fig3_rates.png", "Fig. 3 analogue: actual and estimated (one-step, θ frozen) angular velocities, verification data", 3..6, false),
         ("fig4_velocity_error.png", "Fig. 4 analogue: one-step errors (actual − estimate) of the velocities", 0..3, true),
         ("fig5_rate_error.png", "Fig. 5 analogue: one-step errors (actual − estimate) of the angular velocities", 3..6, true),
     ];
@@ -242,7 +261,7 @@ pub fn write_figures(
                     }
                 }
                 Panel {
-                    ylabel: labels[i].clone(),
+                    ylabel: labels[i].to_string(),
                     series,
                 }
             })
@@ -267,7 +286,7 @@ pub fn write_figures(
                 ));
             }
             Panel {
-                ylabel: labels[i].clone(),
+                ylabel: labels[i].to_string(),
                 series,
             }
         })

@@ -70,6 +70,71 @@ pub struct Metrics {
     /// f32 against f64 parameter agreement of the extended structures.
     #[serde(default)]
     pub precision: Vec<crate::precision::PrecisionResult>,
+    /// The rate the logs were identified at (Hz).
+    #[serde(default = "default_rate")]
+    pub rate_hz: f64,
+    /// How training and verification data were chosen.
+    #[serde(default)]
+    pub split: String,
+    /// What the import did with each log (training logs, then the verification log).
+    #[serde(default)]
+    pub logs: Vec<LogSummary>,
+    /// The decision: the model to fly, per axis, and what the logs could not show.
+    #[serde(default)]
+    pub verdict: Option<crate::verdict::Verdict>,
+}
+
+fn default_rate() -> f64 {
+    50.0
+}
+
+/// One log's import, for metrics.json: its format, each channel's native rate, the
+/// segments used and what was cut.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LogSummary {
+    /// The file.
+    pub file: String,
+    /// `ULog`, `DataFlash`, `Csv`, ….
+    pub format: String,
+    /// Native rate of each channel (Hz); absent for a CSV log taken as it is.
+    pub native_rates: Option<crate::import::NativeRates>,
+    /// The rate it was resampled at (Hz).
+    pub rate_hz: f64,
+    /// Seconds in its segments.
+    pub duration_s: f64,
+    /// Segments.
+    pub segments: usize,
+    /// Each cut: `(from, to)` log time (s; `null` for an open end) and why.
+    pub cuts: Vec<(Option<f64>, Option<f64>, String)>,
+    /// Where the ground time came from (`Autopilot`, `Data`), if it was looked for.
+    pub in_air: Option<String>,
+    /// The import's notes.
+    pub notes: Vec<String>,
+    /// The import's warnings.
+    pub warnings: Vec<String>,
+}
+
+impl LogSummary {
+    /// The summary of `imported`, read from `file`.
+    pub fn of(file: &str, imported: &crate::import::Imported) -> Self {
+        let finite = |x: f64| x.is_finite().then_some(x);
+        Self {
+            file: file.to_string(),
+            format: format!("{:?}", imported.format),
+            native_rates: imported.native_rates,
+            rate_hz: imported.rate_hz,
+            duration_s: imported.duration_s(),
+            segments: imported.segments.len(),
+            cuts: imported
+                .cuts
+                .iter()
+                .map(|c| (finite(c.from_s), finite(c.to_s), c.reason.clone()))
+                .collect(),
+            in_air: imported.in_air.map(|s| format!("{s:?}")),
+            notes: imported.notes.clone(),
+            warnings: imported.warnings.clone(),
+        }
+    }
 }
 
 /// State labels `name (unit)`.

@@ -1,0 +1,279 @@
+//! The decision `rotorid identify` prints by default: which model to fly and why, per axis in
+//! the autopilot's frame against holding the measured state and against the linear baseline,
+//! and what the log could not show.
+//!
+//! The candidates are the models a flight computer would run: the flight default
+//! (`FlightIdentifier`), its one-rule counterpart (`flight plain`) and the linear baseline
+//! (`extended plain`). Each is scored by its free run (the model fed its own predictions over
+//! windows, restarted from the measured state) against the hold predictor (the window's first
+//! state held): a model that cannot beat holding the state has learnt nothing usable for
+//! prediction on that axis.
+
+use serde::{Deserialize, Serialize};
+
+use crate::experiments::VariantResult;
+use rotorid_sim::plant::SensorSample;
+
+/// The candidates, in order of preference when their scores tie.
+pub const CANDIDATES: [&str; 3] = ["flight", "flight plain", "extended plain"];
+
+/// The linear baseline the models are compared with.
+pub const BASELINE: &str = "extended plain";
+
+/// The axes in the autopilot's frame, in the order of the metrics' state arrays
+/// (`[v_x v_y v_z q r p]` in the paper's axes: x east, y up, z south; q pitch, r yaw, p
+/// roll), with their units. Errors are magnitudes, so east/up/south errors are the
+/// east/down/north velocities' errors.
+pub const AXES: [(&str, &str); 6] = [
+    ("east velocity", "m/s"),
+    ("down velocity", "m/s"),
+    ("north velocity", "m/s"),
+    ("pitch rate q", "deg/s"),
+    ("yaw rate r", "deg/s"),
+    ("roll rate p", "deg/s"),
+];
+
+/// The order the verdict lists the axes in: north, east, down, roll, pitch, yaw.
+pub const DISPLAY_ORDER: [usize; 6] = [2, 0, 1, 5, 3, 4];
+
+/// Stick standard deviation (normalised units) below which a stick counts as never moved.
+pub const MIN_STICK_STD: f64 = 0.02;
+
+/// Fewest training samples for which the verdict does not warn (60 s at 50 Hz).
+pub const MIN_TRAINING_SAMPLES: usize = 3000;
+
+/// Forward-speed centres of the flight default's rules (m/s) and their spread: a rule has
+/// fired when enough samples lie within one spread of its centre.
+const RULE_CENTRES_MPS: [f64; 3] = [0.0, 5.0, 10.0];
+const RULE_SPREAD_MPS: f64 = 2.5;
+/// Samples within a rule's spread for it to count as learnt (2 s at 50 Hz).
+const MIN_RULE_SAMPLES: usize = 100;
+
+/// One axis of the chosen model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisVerdict {
+    /// Axis in the autopilot's frame (`"north velocity"`, `"roll rate p"`, …).
+    pub axis: String,
+    /// Unit of the errors.
+    pub unit: String,
+    /// The chosen model's free-run mean absolute error.
+    pub free_run: f64,
+    /// Holding the window's first state.
+    pub hold: f64,
+    /// The linear baseline's free run.
+    pub baseline: f64,
+    /// `free_run / hold` (below 1: better than hold).
+    pub vs_hold: f64,
+    /// `free_run / baseline`.
+    pub vs_baseline: f64,
+}
+
+/// The decision.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Verdict {
+    /// The model to fly (a variant name).
+    pub model: String,
+    /// Why, in a sentence.
+    pub why: String,
+    /// Per axis, north, east, down, roll, pitch, yaw.
+    pub axes: Vec<AxisVerdict>,
+    /// Each candidate's score: the geometric mean over the axes of free run / hold.
+    pub scores: Vec<(String, f64)>,
+    /// What the log could not show, and why.
+    pub caveats: Vec<String>,
+}
+
+/// Geometric mean of free run / hold over the six axes; `None` if any is not finite or the
+/// model left the sample limits in any window.
+fn score(v: &VariantResult) -> Option<f64> {
+    if v.free_run_diverged > 0 {
+        return None;
+    }
+    let mut log_sum = 0.0;
+    for i in 0..6 {
+        let r = v.free_run[i] / v.hold_free_run[i];
+        if !(r.is_finite() && r > 0.0) {
+            return None;
+        }
+        log_sum += r.ln();
+    }
+    Some((log_sum / 6.0).exp())
+}
+
+/// The verdict on `results` (every variant evaluated), with caveats from the training data
+/// and from the import (`warnings`, printed already, counted here).
+pub fn verdict(
+    results: &[VariantResult],
+    training: &[Vec<SensorSample>],
+    rate_hz: f64,
+) -> Option<Verdict> {
+    let find = |name: &str| results.iter().find(|v| v.name == name);
+    let baseline = find(BASELINE)?;
+    let scores: Vec<(String, f64)> = CANDIDATES
+        .iter()
+        .filter_map(|n| Some((n.to_string(), score(find(n)?)?)))
+        .collect();
+    let (model, best) = scores
+        .iter()
+        .fold(None::<(&str, f64)>, |acc, (n, s)| match acc {
+            Some((_, b)) if b <= *s * 1.02 => acc,
+            _ => Some((n.as_str(), *s)),
+        })?;
+    let chosen = find(model)?;
+    let axes: Vec<AxisVerdict> = DISPLAY_ORDER
+        .iter()
+        .map(|&i| AxisVerdict {
+            axis: AXES[i].0.to_string(),
+            unit: AXES[i].1.to_string(),
+            free_run: chosen.free_run[i],
+            hold: chosen.hold_free_run[i],
+            baseline: baseline.free_run[i],
+            vs_hold: chosen.free_run[i] / chosen.hold_free_run[i],
+            vs_baseline: chosen.free_run[i] / baseline.free_run[i],
+        })
+        .collect();
+    let beats_hold = axes.iter().filter(|a| a.vs_hold < 1.0).count();
+    let beats_baseline = axes.iter().filter(|a| a.vs_baseline < 1.0).count();
+    let why = format!(
+        "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of 6 axes and the linear baseline on {beats_baseline} of 6"
+    );
+    let mut caveats = Vec::new();
+    for a in &axes {
+        if a.vs_hold >= 1.0 {
+            caveats.push(format!(
+                "{}: the free run is worse than holding the measured value ({:.2}×): do not use this axis's model to predict beyond one step",
+                a.axis, a.vs_hold
+            ));
+        }
+    }
+    caveats.extend(stick_caveats(training));
+    if model == "flight" {
+        caveats.extend(rule_caveats(training));
+    }
+    let n: usize = training.iter().map(Vec::len).sum();
+    let min = (MIN_TRAINING_SAMPLES as f64 * rate_hz / 50.0) as usize;
+    if n < min {
+        caveats.push(format!(
+            "only {:.0} s of training data: a minute or more of excited flight identifies the models reliably",
+            n as f64 / rate_hz
+        ));
+    }
+    Some(Verdict {
+        model: model.to_string(),
+        why,
+        axes,
+        scores,
+        caveats,
+    })
+}
+
+/// Sticks whose standard deviation over the training data is below [`MIN_STICK_STD`].
+fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
+    let sticks = [
+        ("collective", "vertical (Z_col) and yaw-torque terms"),
+        ("pedal", "yaw control power (N_ped)"),
+        ("longitudinal cyclic", "pitch control power (M_lon)"),
+        ("lateral cyclic", "roll control power (L_lat)"),
+    ];
+    let value = |s: &SensorSample, k: usize| match k {
+        0 => s.sticks.col,
+        1 => s.sticks.ped,
+        2 => s.sticks.lon,
+        _ => s.sticks.lat,
+    };
+    let samples: Vec<&SensorSample> = training.iter().flatten().collect();
+    if samples.len() < 2 {
+        return Vec::new();
+    }
+    let n = samples.len() as f64;
+    sticks
+        .iter()
+        .enumerate()
+        .filter_map(|(k, (name, what))| {
+            let mean = samples.iter().map(|s| value(s, k)).sum::<f64>() / n;
+            let var = samples
+                .iter()
+                .map(|s| (value(s, k) - mean).powi(2))
+                .sum::<f64>()
+                / n;
+            let std = var.sqrt();
+            (std < MIN_STICK_STD).then(|| {
+                format!(
+                    "the {name} was hardly moved (σ = {:.1} % of travel): {what} not determined; fly a doublet or sweep on it",
+                    std * 100.0
+                )
+            })
+        })
+        .collect()
+}
+
+/// The flight default's forward-speed rules that the training data never reached.
+fn rule_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
+    let forward = |s: &SensorSample| s.v_north * s.yaw.cos() + s.v_east * s.yaw.sin();
+    let unlearnt: Vec<String> = RULE_CENTRES_MPS
+        .iter()
+        .filter(|c| {
+            training
+                .iter()
+                .flatten()
+                .filter(|s| (forward(s) - **c).abs() < RULE_SPREAD_MPS)
+                .count()
+                < MIN_RULE_SAMPLES
+        })
+        .map(|c| format!("{c:.0} m/s"))
+        .collect();
+    if unlearnt.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "the flight default's forward-speed rules at {} were hardly reached (under {} samples within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's",
+        unlearnt.join(" and "),
+        MIN_RULE_SAMPLES
+    )]
+}
+
+/// The verdict as text (at most about 20 lines).
+pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(s, "Model to fly: {}", v.model);
+    let _ = writeln!(s, "  why: {}", v.why);
+    let _ = writeln!(
+        s,
+        "  {window_s} s free run, mean |error|   {:>9} {:>9} {:>9} {:>8} {:>9}",
+        v.model.split(' ').next().unwrap_or(""),
+        "hold",
+        "linear",
+        "vs hold",
+        "vs linear"
+    );
+    for a in &v.axes {
+        let _ = writeln!(
+            s,
+            "  {:<30} {:>9.3} {:>9.3} {:>9.3} {:>7.0} % {:>7.0} %",
+            format!("{} ({})", a.axis, a.unit),
+            a.free_run,
+            a.hold,
+            a.baseline,
+            100.0 * (a.vs_hold - 1.0),
+            100.0 * (a.vs_baseline - 1.0)
+        );
+    }
+    let others: Vec<String> = v
+        .scores
+        .iter()
+        .map(|(n, x)| format!("{n} {x:.2}"))
+        .collect();
+    let _ = writeln!(
+        s,
+        "  free run / hold, geometric mean (lower is better): {}",
+        others.join(", ")
+    );
+    if !v.caveats.is_empty() {
+        let _ = writeln!(s, "What the log could not show:");
+        for c in &v.caveats {
+            let _ = writeln!(s, "  - {c}");
+        }
+    }
+    s
+}
