@@ -16,7 +16,9 @@ format, size and sha256, and for each topic/message the rotorid importer uses
   `v_z_valid`; sdlog2 `PFlg` bits 2 and 3),
 
 the largest absolute body rate (`peak_rate`, rad/s, with its time stamp: a crash shows
-there), and the intervals the autopilot itself logged as armed and as in the air (`armed`,
+there, and `moving_us`, the span where a rate exceeds 0.5 rad/s), roll and pitch ranges
+(`attitude_range_deg`), what the vehicle is (`vehicle`: board, firmware, frame parameters),
+and the intervals the autopilot itself logged as armed and as in the air (`armed`,
 `in_air`, each a list of `[from_us, to_us]`; an interval still open at the end of the log
 ends at the log's last time stamp, and `open_at_end` says so).
 
@@ -85,6 +87,11 @@ SDLOG2_MESSAGES = ["TIME", "ATT", "LPOS", "GPOS", "ATTC", "STAT", "LAND", "RC", 
 # ArduPilot LogEvent ids.
 EV_ARMED, EV_DISARMED, EV_LAND_COMPLETE, EV_NOT_LANDED = 10, 11, 18, 28
 PX4_ARMING_STATE_ARMED = 2
+# A body rate (rad/s) above the noise of a vehicle at rest (about 0.03 rad/s on the logs here).
+MOVING_RADPS = 0.5
+# Parameters that say what the vehicle is and how it logs.
+PX4_PARAMS = ["SYS_AUTOSTART", "MAV_TYPE", "SDLOG_PROFILE"]
+ARDUPILOT_PARAMS = ["FRAME_CLASS", "FRAME_TYPE", "LOG_BITMASK", "AHRS_EKF_TYPE", "H_SWASH_TYPE"]
 
 
 def timing(stamps):
@@ -106,13 +113,33 @@ def timing(stamps):
 
 def peak(stamps, rows, source):
     """The largest absolute body rate (rad/s) in `rows` (one row of p q r per stamp) and its
-    time stamp: a crash or a glitch shows here."""
+    time stamp -- a crash or a glitch shows here -- and the first and last stamp where any
+    rate exceeds MOVING_RADPS (`moving_us`, null if never): when the vehicle moved, by the
+    data alone, whatever the autopilot's flags say."""
     if len(stamps) == 0:
         return None
     a = np.abs(np.asarray(rows, dtype=float))
     a[~np.isfinite(a)] = 0.0
-    k = int(np.argmax(a.max(axis=1)))
-    return {"radps": round(float(a[k].max()), 4), "at_us": int(stamps[k]), "source": source}
+    m = a.max(axis=1)
+    k = int(np.argmax(m))
+    moving = np.flatnonzero(m > MOVING_RADPS)
+    span = [int(stamps[moving[0]]), int(stamps[moving[-1]])] if moving.size else None
+    return {
+        "radps": round(float(m[k]), 4),
+        "at_us": int(stamps[k]),
+        "moving_us": span,
+        "source": source,
+    }
+
+
+def angle_range(roll, pitch):
+    """Roll and pitch ranges `[min, max]` (deg, rounded to 0.1) of angles in rad."""
+    out = {}
+    for name, x in (("roll", roll), ("pitch", pitch)):
+        x = np.degrees(np.asarray(x, dtype=float))
+        x = x[np.isfinite(x)]
+        out[name] = [round(float(x.min()), 1), round(float(x.max()), 1)] if x.size else None
+    return out
 
 
 def intervals(events, start_us, end_us, changes=False):
@@ -152,12 +179,22 @@ def ulog_facts(path):
         d = first.get(name)
         topics[name] = timing(d.data["timestamp"]) if d else {"count": 0}
     start, end = int(u.start_timestamp), int(u.last_timestamp)
+    info = u.msg_info_dict
+    vehicle = {k: info.get(k) for k in ("ver_hw", "sys_name", "ver_sw")}
+    vehicle.update({k: u.initial_parameters.get(k) for k in PX4_PARAMS})
     facts = {
         "format": "ULog",
+        "vehicle": vehicle,
         "log_first_us": start,
         "log_last_us": end,
         "topics": topics,
     }
+    att = first.get("vehicle_attitude")
+    if att is not None:
+        w, x, y, z = (att.data[f"q[{i}]"].astype(float) for i in range(4))
+        roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+        pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1, 1))
+        facts["attitude_range_deg"] = angle_range(roll, pitch)
     rates = first.get("vehicle_angular_velocity")
     if rates is not None:
         rows = np.column_stack([rates.data[f"xyz[{i}]"] for i in range(3)])
@@ -191,11 +228,16 @@ def dataflash_facts(path):
     stamps = {m: [] for m in DATAFLASH_MESSAGES}
     armed, in_air, events = [], [], []
     rate_t, rate_rows = [], []
+    roll, pitch, params, firmware = [], [], {}, None
     first = last = None
     while True:
         m = r.recv_msg()
         if m is None:
             break
+        if m.get_type() == "PARM" and m.Name in ARDUPILOT_PARAMS:
+            params.setdefault(m.Name, m.Value)
+        if m.get_type() == "MSG" and firmware is None and str(m.Message).startswith("Ardu"):
+            firmware = m.Message
         t = getattr(m, "TimeUS", None)
         if t is None:
             continue
@@ -207,6 +249,9 @@ def dataflash_facts(path):
             continue  # EKF3 core 0 only (one row per core per cycle), as the importer
         if name in stamps:
             stamps[name].append(t)
+        if name == "ATT":
+            roll.append(np.radians(m.Roll))
+            pitch.append(np.radians(m.Pitch))
         if name == "RATE":
             rate_t.append(t)
             rate_rows.append([np.radians(m.R), np.radians(m.P), np.radians(m.Y)])
@@ -223,9 +268,11 @@ def dataflash_facts(path):
         armed_source = "ARM.ArmState"
     facts = {
         "format": "DataFlash",
+        "vehicle": dict({"firmware": firmware}, **{k: params.get(k) for k in ARDUPILOT_PARAMS}),
         "log_first_us": first,
         "log_last_us": last,
         "topics": {m: timing(s) for m, s in stamps.items()},
+        "attitude_range_deg": angle_range(roll, pitch),
         "peak_rate": peak(rate_t, rate_rows, "RATE R P Y (deg/s, here rad/s)"),
         "events": events,
         "armed": dict(intervals(armed, first, last, changes=True), source=armed_source),
@@ -242,12 +289,17 @@ def sdlog2_facts(path):
     armed, landed = [], []
     rate_t, rate_rows = [], []
     valid_velocity = 0
+    roll, pitch, params, version = [], [], {}, {}
     now = None
     while True:
         m = r.recv_msg()
         if m is None:
             break
         name = m.get_type()
+        if name == "PARM" and m.Name in PX4_PARAMS:
+            params.setdefault(m.Name, m.Value)
+        if name == "VER":
+            version = {"arch": m.Arch, "fw_git": m.FwGit}
         if name == "TIME":
             now = int(m.StartTime)
         if now is None:
@@ -255,6 +307,8 @@ def sdlog2_facts(path):
         if name in stamps:
             stamps[name].append(now)
         if name == "ATT":
+            roll.append(m.Roll)
+            pitch.append(m.Pitch)
             rate_t.append(now)
             rate_rows.append([m.RollRate, m.PitchRate, m.YawRate])
         if name == "LPOS" and int(m.PFlg) & 0b1100 == 0b1100:
@@ -269,9 +323,11 @@ def sdlog2_facts(path):
     lpos["velocity_valid_rows"] = valid_velocity
     facts = {
         "format": "sdlog2",
+        "vehicle": dict(version, **{k: params.get(k) for k in PX4_PARAMS}),
         "log_first_us": t[0] if t else None,
         "log_last_us": end,
         "topics": dict({m: timing(s) for m, s in stamps.items()}, LPOS=lpos),
+        "attitude_range_deg": angle_range(roll, pitch),
         "peak_rate": peak(rate_t, rate_rows, "ATT RollRate PitchRate YawRate"),
         "armed": dict(intervals(armed, t[0] if t else None, end), source="STAT.ArmS"),
     }
