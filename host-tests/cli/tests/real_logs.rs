@@ -3,8 +3,8 @@
 //! what the autopilot projects' own readers say of it: `data/logs/real/facts.json`, written by
 //! `scripts/real_log_facts.py` with pyulog (ULog) and pymavlink (DataFlash, sdlog2).
 //!
-//! The tests without `#[ignore]` hold for today's importer. The ignored ones state what the
-//! import must do once the new readers land (issue 34 parts 1, 2 and 4); each says which.
+//! The tests without `#[ignore]` hold for today's importer. The ignored one states what the
+//! import must do once the new readers land (issue 34 part 4).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -210,7 +210,7 @@ fn every_real_log_imports_or_says_in_one_line_what_is_missing() {
 }
 
 /// Segments are on the log's own clock (s since boot): inside the span the oracle read,
-/// on the 50 Hz grid, and no longer than the attitude the log holds.
+/// on the grid of the rate it was identified at, and no longer than the attitude the log holds.
 #[test]
 fn imported_segments_lie_within_the_logged_span() {
     for (f, r) in imports() {
@@ -226,7 +226,7 @@ fn imported_segments_lie_within_the_logged_span() {
             );
             for w in seg.windows(2) {
                 assert!(
-                    ((w[1].t - w[0].t) - 0.02).abs() < 1.5e-6,
+                    ((w[1].t - w[0].t) - 1.0 / imported.rate_hz).abs() < 1.5e-6,
                     "{}: step {}",
                     f.file,
                     w[1].t - w[0].t
@@ -296,7 +296,6 @@ fn sdlog2_logs_are_recognised() {
 /// A crash (a body rate far beyond flight, e.g. 42 rad/s in `ekf_failure.ulg`) cuts the
 /// log there instead of refusing it: the flight before it is kept, and a note gives the time.
 #[test]
-#[ignore = "needs cutting at implausible samples (issue 34 part 1); enable after merging it"]
 fn a_crash_cuts_the_log_instead_of_refusing_it() {
     let mut seen = 0;
     for (f, r) in imports() {
@@ -350,7 +349,6 @@ fn a_crash_cuts_the_log_instead_of_refusing_it() {
 /// Not for the sdlog2 helicopter logs: PX4 there was set up as a quadrotor and its land
 /// detector says "in the air" while the helicopter sits still (sess006 after 16 s).
 #[test]
-#[ignore = "needs the in-air trimming (issue 34 part 1); enable after merging it"]
 fn segments_stay_within_the_autopilots_in_air_time() {
     let mut seen = 0;
     for (f, r) in imports() {
@@ -380,9 +378,9 @@ fn segments_stay_within_the_autopilots_in_air_time() {
     assert!(seen >= 1, "no imported fixture with in-air intervals");
 }
 
-/// A channel logged below the identification rate (50 Hz) is named with its native rate.
+/// A channel logged below 50 Hz is named with its native rate in a warning, and the log is
+/// identified no faster than its attitude is logged.
 #[test]
-#[ignore = "needs the native-rate notes (issue 34 part 2); enable after merging it"]
 fn low_native_rates_are_stated() {
     let mut seen = 0;
     for (f, r) in imports() {
@@ -394,13 +392,14 @@ fn low_native_rates_are_stated() {
             continue;
         }
         seen += 1;
-        let stated: Vec<f64> = imported.notes.iter().flat_map(|n| rates_in(n)).collect();
+        let stated: Vec<f64> = imported.warnings.iter().flat_map(|n| rates_in(n)).collect();
         assert!(
             stated.iter().any(|x| (x - rate).abs() <= 0.1 * rate),
-            "{}: attitude at {rate} Hz, notes state {stated:?}: {:?}",
+            "{}: attitude at {rate} Hz, warnings state {stated:?}: {:?}",
             f.file,
-            imported.notes
+            imported.warnings
         );
+        assert!(imported.rate_hz <= rate * 1.05, "{}: {} Hz", f.file, imported.rate_hz);
     }
     assert!(seen >= 1, "no imported fixture below 50 Hz");
 }
