@@ -7,7 +7,6 @@
 //! closest to the wanted fraction (the later one of equals); with one, or when no segment is
 //! small enough, the last part of the longest segment.
 
-use crate::log::MIN_USEFUL_SAMPLES;
 use rotorid_sim::plant::SensorSample;
 
 /// A segment of a log, with where it came from.
@@ -46,7 +45,7 @@ pub enum SplitError {
         samples: usize,
         /// The wanted fraction (%).
         fraction: f64,
-        /// [`MIN_USEFUL_SAMPLES`].
+        /// The least samples of each part.
         min: usize,
     },
 }
@@ -59,8 +58,9 @@ fn span(s: &[SensorSample]) -> (f64, f64) {
 }
 
 /// Splits `segments` (every usable segment of every log, in order) holding out about
-/// `fraction` of the samples for verification.
-pub fn split(segments: Vec<Labelled>, fraction: f64) -> Result<Split, SplitError> {
+/// `fraction` of the samples for verification; each part has at least `min` samples
+/// ([`crate::import::min_useful_samples`]).
+pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split, SplitError> {
     if !(fraction > 0.0 && fraction < 1.0) {
         return Err(SplitError::Fraction(fraction));
     }
@@ -69,7 +69,7 @@ pub fn split(segments: Vec<Labelled>, fraction: f64) -> Result<Split, SplitError
     let too_short = SplitError::TooShort {
         samples: total,
         fraction: fraction * 100.0,
-        min: MIN_USEFUL_SAMPLES,
+        min,
     };
     // A whole segment, when one is about the wanted size and leaves enough to train on.
     let whole = segments
@@ -77,10 +77,7 @@ pub fn split(segments: Vec<Labelled>, fraction: f64) -> Result<Split, SplitError
         .enumerate()
         .filter(|(_, s)| {
             let n = s.samples.len();
-            n >= MIN_USEFUL_SAMPLES
-                && total - n >= MIN_USEFUL_SAMPLES
-                && (n as f64) <= 2.0 * target
-                && (n as f64) >= 0.5 * target
+            n >= min && total - n >= min && (n as f64) <= 2.0 * target && (n as f64) >= 0.5 * target
         })
         .min_by(|(i, a), (j, b)| {
             let da = (a.samples.len() as f64 - target).abs();
@@ -119,8 +116,8 @@ pub fn split(segments: Vec<Labelled>, fraction: f64) -> Result<Split, SplitError
     let longest = &segments[k];
     let n = longest.samples.len();
     let held_n = ((n as f64) * fraction.min(target / n as f64)).round() as usize;
-    let held_n = held_n.max(MIN_USEFUL_SAMPLES);
-    if held_n >= n || n - held_n < MIN_USEFUL_SAMPLES {
+    let held_n = held_n.max(min);
+    if held_n >= n || n - held_n < min {
         return Err(too_short);
     }
     let held = segments[k].samples.split_off(n - held_n);
@@ -161,7 +158,7 @@ mod tests {
 
     #[test]
     fn one_segment_keeps_its_end_back() {
-        let s = split(vec![seg("a.ulg", 1, 1000, 0.0)], 0.3).unwrap();
+        let s = split(vec![seg("a.ulg", 1, 1000, 0.0)], 0.3, 100).unwrap();
         assert_eq!(s.verification.len(), 300);
         assert_eq!(s.training.len(), 1);
         assert_eq!(s.training[0].len(), 700);
@@ -179,6 +176,7 @@ mod tests {
                 seg("b.ulg", 1, 300, 40.0),
             ],
             0.25,
+            100,
         )
         .unwrap();
         // Target 322 samples: 300 (b.ulg segment 1) is closest.
@@ -190,15 +188,15 @@ mod tests {
     #[test]
     fn too_little_data_and_bad_fractions_are_errors() {
         assert!(matches!(
-            split(vec![seg("a.ulg", 1, 150, 0.0)], 0.3),
+            split(vec![seg("a.ulg", 1, 150, 0.0)], 0.3, 100),
             Err(SplitError::TooShort { .. })
         ));
         assert_eq!(
-            split(vec![seg("a.ulg", 1, 1000, 0.0)], 1.0).unwrap_err(),
+            split(vec![seg("a.ulg", 1, 1000, 0.0)], 1.0, 100).unwrap_err(),
             SplitError::Fraction(1.0)
         );
         assert!(matches!(
-            split(Vec::new(), 0.3),
+            split(Vec::new(), 0.3, 100),
             Err(SplitError::TooShort { .. })
         ));
     }

@@ -510,6 +510,9 @@ pub fn check_range(k: usize, x: f64) -> Result<(), LogErrorKind> {
 /// Fewer samples than this (2 s at 50 Hz) cannot show anything about a model.
 pub const MIN_USEFUL_SAMPLES: usize = 100;
 
+/// [`MIN_USEFUL_SAMPLES`] as a duration (s), for logs identified at a lower rate.
+pub const MIN_USEFUL_S: f64 = 2.0;
+
 /// The body rates' RMS over the attitude's rate of change (Euler-angle derivatives, rad/s),
 /// over the samples where the attitude moves: about 1 when the rates are in rad/s (for
 /// moderate attitudes the two agree), about 57 when they are in deg/s. `None` when the

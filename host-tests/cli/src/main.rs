@@ -876,7 +876,11 @@ fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
                 how: format!("verified on {} (its longest segment)", v.display()),
             }
         }
-        _ => rotorid_cli::holdout::split(labelled, args.holdout)?,
+        _ => rotorid_cli::holdout::split(
+            labelled,
+            args.holdout,
+            import::min_useful_samples(rate_hz),
+        )?,
     };
     let verify_name = args
         .verify
@@ -900,7 +904,18 @@ fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
     })?;
 
     let gyro_noise = match args.gyro_noise {
-        GyroNoise::Auto => experiments::gyro_noise_of(&training),
+        // RateNoise's third differences are noise only when the rates are sampled well above
+        // the body dynamics (50 Hz for a helicopter); at a log's lower rate they are mostly
+        // motion, and compensating for that would spoil the free run.
+        GyroNoise::Auto if rate_hz >= import::resample::RATE_HZ => {
+            experiments::gyro_noise_of(&training)
+        }
+        GyroNoise::Auto => {
+            eprintln!(
+                "note: at {rate_hz} Hz the rates' differences are mostly motion, not gyro noise: the free runs are not compensated for it (give --gyro-noise with the gyro's data-sheet σ)"
+            );
+            None
+        }
         GyroNoise::None => None,
         GyroNoise::Given(sigma) => Some(sigma),
     };

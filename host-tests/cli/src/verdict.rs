@@ -134,9 +134,15 @@ pub fn verdict(
         .collect();
     let beats_hold = axes.iter().filter(|a| a.vs_hold < 1.0).count();
     let beats_baseline = axes.iter().filter(|a| a.vs_baseline < 1.0).count();
-    let why = format!(
-        "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of 6 axes and the linear baseline on {beats_baseline} of 6"
-    );
+    let why = if best >= 1.0 {
+        format!(
+            "no model beats holding the measured state overall (the best, {model}, is {best:.2} of hold, geometric mean over the axes): this log does not identify a model to fly; it beats hold on {beats_hold} of 6 axes"
+        )
+    } else {
+        format!(
+            "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of 6 axes and the linear baseline on {beats_baseline} of 6"
+        )
+    };
     let mut caveats = Vec::new();
     for a in &axes {
         if a.vs_hold >= 1.0 {
@@ -144,6 +150,27 @@ pub fn verdict(
                 "{}: the free run is worse than holding the measured value ({:.2}×): do not use this axis's model to predict beyond one step",
                 a.axis, a.vs_hold
             ));
+        }
+    }
+    if model != CANDIDATES[0] {
+        if let Some(default) = find(CANDIDATES[0]) {
+            let worse: Vec<String> = DISPLAY_ORDER
+                .iter()
+                .filter(|&&i| default.free_run[i] >= default.hold_free_run[i])
+                .map(|&i| {
+                    format!(
+                        "{} ({:.2}×)",
+                        AXES[i].0,
+                        default.free_run[i] / default.hold_free_run[i]
+                    )
+                })
+                .collect();
+            if !worse.is_empty() {
+                caveats.push(format!(
+                    "the flight default (FlightIdentifier) is worse than hold on {}",
+                    worse.join(", ")
+                ));
+            }
         }
     }
     caveats.extend(stick_caveats(training));
@@ -236,12 +263,18 @@ fn rule_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
 pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
-    let _ = writeln!(s, "Model to fly: {}", v.model);
+    let fly = v.scores.iter().any(|(n, x)| *n == v.model && *x < 1.0);
+    if fly {
+        let _ = writeln!(s, "Model to fly: {}", v.model);
+    } else {
+        let _ = writeln!(s, "No model to fly from this log (closest: {})", v.model);
+    }
     let _ = writeln!(s, "  why: {}", v.why);
     let _ = writeln!(
         s,
-        "  {window_s} s free run, mean |error|   {:>9} {:>9} {:>9} {:>8} {:>9}",
-        v.model.split(' ').next().unwrap_or(""),
+        "  {:<28} {:>14} {:>9} {:>9} {:>8} {:>9}",
+        format!("{window_s} s free run, mean |error|"),
+        v.model,
         "hold",
         "linear",
         "vs hold",
@@ -250,7 +283,7 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     for a in &v.axes {
         let _ = writeln!(
             s,
-            "  {:<30} {:>9.3} {:>9.3} {:>9.3} {:>7.0} % {:>7.0} %",
+            "  {:<28} {:>14.3} {:>9.3} {:>9.3} {:>6.0} % {:>7.0} %",
             format!("{} ({})", a.axis, a.unit),
             a.free_run,
             a.hold,

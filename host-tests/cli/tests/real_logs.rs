@@ -399,7 +399,12 @@ fn low_native_rates_are_stated() {
             f.file,
             imported.warnings
         );
-        assert!(imported.rate_hz <= rate * 1.05, "{}: {} Hz", f.file, imported.rate_hz);
+        assert!(
+            imported.rate_hz <= rate * 1.05,
+            "{}: {} Hz",
+            f.file,
+            imported.rate_hz
+        );
     }
     assert!(seen >= 1, "no imported fixture below 50 Hz");
 }

@@ -139,18 +139,29 @@ impl Imported {
 }
 
 /// The segments `identify` uses: for training (`all`), every segment of at least
-/// [`log::MIN_USEFUL_SAMPLES`] (or the longest when none is that long), learnt one after another; for
-/// verification, the longest.
+/// [`log::MIN_USEFUL_S`] seconds (or the longest when none is that long), learnt one after
+/// another; for verification, the longest.
 pub fn segments_for_identify(imported: &Imported, all: bool) -> Vec<&Segment> {
+    let min = min_useful_samples(imported.rate_hz);
     let long: Vec<&Segment> = imported
         .segments
         .iter()
-        .filter(|s| s.len() >= log::MIN_USEFUL_SAMPLES)
+        .filter(|s| s.len() >= min)
         .collect();
     if all && !long.is_empty() {
         long
     } else {
         imported.longest().into_iter().collect()
+    }
+}
+
+/// [`log::MIN_USEFUL_S`] in samples at `rate_hz` ([`log::MIN_USEFUL_SAMPLES`] at 50 Hz).
+pub fn min_useful_samples(rate_hz: f64) -> usize {
+    let n = (log::MIN_USEFUL_S * rate_hz).ceil();
+    if n.is_finite() && n >= 2.0 {
+        n as usize
+    } else {
+        2
     }
 }
 
