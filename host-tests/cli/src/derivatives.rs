@@ -938,6 +938,7 @@ fn fit_axis(eq: &Equation, points: &[&Point], exc: &[StickExcitation], max_lag: 
 fn rate_axis(
     axes: &[AxisFit],
     (name, eq, damping, control): (&str, usize, &str, &str),
+    dt: f64,
 ) -> RateAxis {
     let find = |sym: &str| {
         axes.get(eq)
@@ -953,10 +954,29 @@ fn rate_axis(
         Some((_, false)) => (None, None, "undetermined"),
         None => (None, None, "not fitted"),
     };
-    let note = c.filter(|c| !c.determined).map(|c| match &c.note {
-        Some(n) => format!("{control} {n}"),
-        None => format!("{control} not determined (|value| < 2 SE)"),
-    });
+    let mut notes: Vec<String> = Vec::new();
+    if let Some(c) = c.filter(|c| !c.determined) {
+        notes.push(match &c.note {
+            Some(n) => format!("{control} {n}"),
+            None => format!("{control} not determined (|value| < 2 SE)"),
+        });
+    }
+    // A response faster than the sampling cannot be fitted by a derivative of the samples:
+    // say so rather than let a fitted number stand alone (module doc, "Sample rate").
+    match (status, tau) {
+        ("unstable", _) => notes.push(format!(
+            "{damping} determined positive: an unstable axis, or one faster than the log's \
+             {:.0} Hz resolves (its other numbers are then not to be trusted)",
+            1.0 / dt
+        )),
+        ("determined", Some(t)) if t < 2.0 * dt => notes.push(format!(
+            "τ = {t:.3} s is under two sample periods ({:.3} s): the log's rate barely \
+             resolves this axis; log faster",
+            2.0 * dt
+        )),
+        _ => {}
+    }
+    let note = (!notes.is_empty()).then(|| notes.join("; "));
     RateAxis {
         axis: name.to_string(),
         control: control.to_string(),
@@ -972,13 +992,16 @@ fn rate_axis(
     }
 }
 
-fn region(name: &str, definition: &str, points: &[&Point], max_lag: usize) -> Region {
+fn region(name: &str, definition: &str, points: &[&Point], max_lag: usize, dt: f64) -> Region {
     let exc = excitation(points);
     let axes: Vec<AxisFit> = EQUATIONS
         .iter()
         .map(|eq| fit_axis(eq, points, &exc, max_lag))
         .collect();
-    let rate_axes = RATE_AXES.iter().map(|&ra| rate_axis(&axes, ra)).collect();
+    let rate_axes = RATE_AXES
+        .iter()
+        .map(|&ra| rate_axis(&axes, ra, dt))
+        .collect();
     let fitted = axes.iter().any(|a| a.fitted);
     let reason = (!fitted).then(|| {
         if points.len() < SAMPLES_PER_PARAMETER * 3 {
@@ -1051,9 +1074,22 @@ pub fn derivatives(segments: &[&[SensorSample]], rate_hz: f64) -> Derivatives {
             "every usable sample (one linearisation of the whole log)",
             &all,
             max_lag,
+            dt,
         ),
-        region("hover", "horizontal ground speed < 3 m/s", &hover, max_lag),
-        region("forward", "body forward speed u ≥ 3 m/s", &forward, max_lag),
+        region(
+            "hover",
+            "horizontal ground speed < 3 m/s",
+            &hover,
+            max_lag,
+            dt,
+        ),
+        region(
+            "forward",
+            "body forward speed u ≥ 3 m/s",
+            &forward,
+            max_lag,
+            dt,
+        ),
     ];
     Derivatives {
         rate_hz: rate_ok.then_some(rate_hz),
@@ -1093,10 +1129,12 @@ fn rate_text(a: &RateAxis) -> String {
         _ => "—".to_string(),
     };
     let tau = match (a.time_constant_s, a.time_constant_se_s) {
+        (Some(t), Some(se)) if t < 1.0 => format!("τ {t:.3}±{se:.3} s"),
         (Some(t), Some(se)) => format!("τ {t:.2}±{se:.2} s"),
         _ => format!("τ {}", a.time_constant_status),
     };
-    format!("{} {} {power}, {tau}", a.axis, a.control)
+    let flag = if a.note.is_some() { " !" } else { "" };
+    format!("{} {} {power}, {tau}{flag}", a.axis, a.control)
 }
 
 /// A compact console summary (at most 14 lines): per fitted region the control power per 10 %
@@ -1105,10 +1143,21 @@ fn rate_text(a: &RateAxis) -> String {
 pub fn format_derivatives(d: &Derivatives) -> String {
     let mut lines = vec![
         "Body-axis derivatives (± corrected SE; * = determined, |value| ≥ 2 SE; control power in \
-         deg/s² per 10 % stick):"
+         deg/s² per 10 % stick; ! = see the axis' note):"
             .to_string(),
     ];
-    for r in &d.regions {
+    let all_samples = d.regions.first().map(|r| r.samples);
+    for (i, r) in d.regions.iter().enumerate() {
+        if i > 0 && r.fitted && Some(r.samples) == all_samples {
+            lines.push(format!(
+                "  {} ({}): the same {} samples as {}",
+                r.name,
+                r.definition,
+                r.samples,
+                d.regions.first().map_or("", |a| a.name.as_str())
+            ));
+            continue;
+        }
         if !r.fitted {
             lines.push(format!(
                 "  {} ({}): not fitted: {}",
