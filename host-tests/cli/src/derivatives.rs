@@ -11,8 +11,8 @@
 //!
 //! | axis | left side (measured) | = regressors |
 //! |---|---|---|
-//! | u | `u̇ − (r v − q w) + g sinθ` | `X_u u + X_lon δlon + X_0` |
-//! | v | `v̇ − (p w − r u) − g cosθ sinφ` | `Y_v v + Y_lat δlat + Y_ped δped + Y_0` |
+//! | u | `u̇ − (r v − q w) + g sinθ` | `X_u u + X_q q + X_lon δlon + X_0` |
+//! | v | `v̇ − (p w − r u) − g cosθ sinφ` | `Y_v v + Y_p p + Y_lat δlat + Y_ped δped + Y_0` |
 //! | w | `ẇ − (q u − p v) − g cosθ cosφ` | `Z_w w + Z_col δcol + Z_0` |
 //! | p | `ṗ` | `L_p p + L_v v + L_lat δlat + L_lon δlon + L_0` |
 //! | q | `q̇` | `M_q q + M_u u + M_lon δlon + M_lat δlat + M_0` |
@@ -20,6 +20,10 @@
 //!
 //! The term lists are those of a hover/low-speed linear model with the usual cross-couplings
 //! (lateral–directional `L_v`, `N_v`; speed stability `M_u`; collective-to-yaw torque `N_col`).
+//! `X_q` and `Y_p` are added to the issue's lists because the rotor's thrust tilts with the
+//! tip-path plane, and the flapping lags the body rate (`a1 ≈ A_lon δlon − τ_e q`, so
+//! `X ≈ −g a1` has a `q` term): on the X-Cell simulator `X_q` comes out determined on every
+//! flight tried, and without it its share leaks into `X_u` and `X_lon`.
 //! The intercepts `X_0 … N_0` absorb trim (stick and force offsets), so the derivatives are
 //! slopes about the region's mean condition. `g` is standard gravity, 9.80665 m/s².
 //! Body velocity comes from NED velocity by the ZYX Euler rotation.
@@ -62,13 +66,25 @@
 //! states also correlates the state regressors with the residual and biases the damping
 //! derivatives; the SE describes scatter, not that bias.
 //!
+//! **Sample rate.** The model is quasi-steady (no rotor flapping state), so a rate axis whose
+//! time constant is near the sample period cannot be fitted from the samples: on the X-Cell
+//! simulator the roll axis (`τ ≈ 0.05 s` at 50 Hz) comes out with the wrong sign at 10 Hz.
+//! A rate axis therefore carries a note when its damping is determined positive ("unstable,
+//! or faster than the log resolves") or its time constant is under two sample periods.
+//! For the same reason the quasi-steady rate derivatives of a helicopter depend on the input's
+//! frequency content (on the X-Cell, `L_p` ≈ −19 1/s from the identification sweeps and ≈ −8
+//! 1/s from the verification multisteps): they describe the log's flight, not the rotor.
+//!
 //! **Operating regions**: `all` (every usable sample: one linearisation of the whole log, the
-//! model an identifier trained on the log sees), `hover` (horizontal ground speed <
+//! model an identifier trained on the log sees; where the helicopter's trim forces change
+//! with speed, its slopes mix the trims, which is why the regions are fitted apart), `hover` (horizontal ground speed <
 //! [`HOVER_MAX_GROUND_SPEED_MPS`]) and `forward` (body forward speed `u` ≥
 //! [`FORWARD_MIN_BODY_SPEED_MPS`]). A region's axis is fitted only with at least
 //! [`SAMPLES_PER_PARAMETER`] (20) samples per parameter (1–2 s of a 50 Hz log for 4–5
 //! parameters): below that the corrected SE, which itself needs the residual autocorrelation,
-//! is not trustworthy.
+//! is not trustworthy. Region membership is per sample (its derivative window may straddle
+//! the region's edge); residual autocorrelation pairs are taken only within a region's
+//! consecutive samples. A region that holds every sample reuses the `all` fit.
 //!
 //! **Excitation**: for each stick its standard deviation over the region's samples; "never
 //! excited" when it is below [`NEVER_EXCITED_FRACTION`] (0.02) of full travel, taken as one
@@ -1068,29 +1084,30 @@ pub fn derivatives(segments: &[&[SensorSample]], rate_hz: f64) -> Derivatives {
         .iter()
         .filter(|p| p.u >= FORWARD_MIN_BODY_SPEED_MPS)
         .collect();
+    let all_region = region(
+        "all",
+        "every usable sample (one linearisation of the whole log)",
+        &all,
+        max_lag,
+        dt,
+    );
+    // A region holding every sample is the `all` fit under another name: reuse it.
+    let sub = |name: &str, definition: &str, pts: &[&Point]| {
+        if pts.len() == all.len() {
+            Region {
+                name: name.to_string(),
+                definition: definition.to_string(),
+                ..all_region.clone()
+            }
+        } else {
+            region(name, definition, pts, max_lag, dt)
+        }
+    };
     let regions = vec![
-        region(
-            "all",
-            "every usable sample (one linearisation of the whole log)",
-            &all,
-            max_lag,
-            dt,
-        ),
-        region(
-            "hover",
-            "horizontal ground speed < 3 m/s",
-            &hover,
-            max_lag,
-            dt,
-        ),
-        region(
-            "forward",
-            "body forward speed u ≥ 3 m/s",
-            &forward,
-            max_lag,
-            dt,
-        ),
+        sub("hover", "horizontal ground speed < 3 m/s", &hover),
+        sub("forward", "body forward speed u ≥ 3 m/s", &forward),
     ];
+    let regions = std::iter::once(all_region).chain(regions).collect();
     Derivatives {
         rate_hz: rate_ok.then_some(rate_hz),
         differentiator: diff.name.to_string(),
