@@ -643,7 +643,7 @@ fn fit(
         .collect();
     if let Some(c) = scale.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
         return Err(format!(
-            "the {} regressor is identically zero",
+            "the {} regressor is zero throughout or overflows",
             names.get(c).unwrap_or(&"?")
         ));
     }
@@ -717,7 +717,13 @@ fn fit(
             lags
         }
         None => {
-            if cap > 0 {
+            if cap == 0 && max_lag > 0 {
+                note = Some(
+                    "no two consecutive samples: the residual correlation cannot be estimated and \
+                     the corrected SE is the ordinary one"
+                        .to_string(),
+                );
+            } else if cap > 0 {
                 note = Some(format!(
                     "residuals still correlated at the {cap}-lag cap (ρ = {:.2}); the corrected SE \
                      may still be low",
