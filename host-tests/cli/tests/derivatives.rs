@@ -438,6 +438,76 @@ fn xcell_identification_flight_has_the_signs_physics_dictates() {
     assert!(format_derivatives(&d).lines().count() <= 14);
 }
 
+/// The X-Cell's own heave and yaw derivatives at hover trim, by central differences of the
+/// simulator's state derivative (as `rotorid_sim::plant::steady_response_per_stick` takes
+/// them): `[Z_w, Z_col, N_r, N_ped]`. Heave and yaw do not go through the flapping, so the
+/// quasi-steady model holds for them and the estimates must agree.
+fn xcell_heave_and_yaw() -> [f64; 4] {
+    use nalgebra::Vector3;
+    use rotorid_sim::plant::{derivative as plant_derivative, trim_hover, Channel, State};
+    let p = FlightConfig::default().params;
+    let trim = trim_hover(&p, 0.0).expect("trims");
+    let h = 1e-4;
+    let accel = |sticks: &Sticks, state: &State| {
+        let (d, _) = plant_derivative(&p, state, &p.blade_pitch(sticks), &Vector3::zeros());
+        (d.vel_body.z, d.omega.z)
+    };
+    let stick = |ch: Channel| {
+        let (mut up, mut down) = (trim.sticks, trim.sticks);
+        up.set(ch, up.get(ch) + h);
+        down.set(ch, down.get(ch) - h);
+        let (a, b) = (accel(&up, &trim.state), accel(&down, &trim.state));
+        ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h))
+    };
+    let state = |perturb: fn(&mut State, f64)| {
+        let (mut up, mut down) = (trim.state, trim.state);
+        perturb(&mut up, h);
+        perturb(&mut down, -h);
+        let (a, b) = (accel(&trim.sticks, &up), accel(&trim.sticks, &down));
+        ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h))
+    };
+    let (z_col, _) = stick(Channel::Col);
+    let (_, n_ped) = stick(Channel::Ped);
+    let (z_w, _) = state(|s, d| s.vel_body.z += d);
+    let (_, n_r) = state(|s, d| s.omega.z += d);
+    [z_w, z_col, n_r, n_ped]
+}
+
+#[test]
+fn xcell_heave_and_yaw_derivatives_match_the_simulators_linearisation() {
+    let truth = xcell_heave_and_yaw();
+    // Noise-free: within 3 %. Realistic (turbulence, noise): the gusts drive the states and
+    // bias the damping (module doc), so wider; the SE covers the scatter, not that bias.
+    for (label, config, tol) in [
+        ("noise-free", FlightConfig::ideal(0.0), [0.03; 4]),
+        (
+            "realistic",
+            FlightConfig::realistic(5, 0.0),
+            [0.1, 0.1, 0.3, 0.15],
+        ),
+    ] {
+        let flight =
+            flights::identification_flight_with(&config, f64::INFINITY).expect("simulates");
+        let d = derivatives(&[&flight], 50.0);
+        let all = region(&d, "all");
+        for (i, sym) in ["Z_w", "Z_col", "N_r", "N_ped"].iter().enumerate() {
+            let dv = derivative(all, sym);
+            let v = dv.value.expect("fitted");
+            println!(
+                "{label}: {sym} {v:.3} ± {:.3} (ordinary {:.3}), simulator at trim {:.3}",
+                dv.se.unwrap_or(0.0),
+                dv.se_ols.unwrap_or(0.0),
+                truth[i]
+            );
+            assert!(
+                (v / truth[i] - 1.0).abs() < tol[i],
+                "{label}: {sym} {v} against {}",
+                truth[i]
+            );
+        }
+    }
+}
+
 #[test]
 fn xcell_verification_flight_has_negative_speed_damping() {
     // The X-Cell's hover X_u is the rotor's blow-back alone (a few 0.01 1/s); the
