@@ -39,12 +39,12 @@
 //! window: a stick gets the increment weights, a state (and each kinematic/gravity term) the
 //! trapezoidal version of them (5-point: 0.1, 0.25, 0.3, 0.25, 0.1). A linear system then
 //! satisfies the equation exactly between the filtered signals, instead of leaving a residual
-//! of half a stick step at every step of a multistep input (a bias of a few per cent in the
-//! control derivatives when the stick moves every ≈ 0.5 s). Samples within the window's half
+//! of about half a stick step at every step of a multistep input (a bias of the control
+//! derivatives that grows with how often the stick moves). Samples within the window's half
 //! width of a segment end, a non-finite sample or a time gap are not used as centres, so no
 //! derivative reaches across a boundary.
 //!
-//! **Standard errors corrected for coloured residuals** (Morelli & Klein eq. 5.80 / 6.x):
+//! **Standard errors corrected for coloured residuals** (Morelli & Klein, ch. 5):
 //! `Cov(θ̂) = (XᵀX)⁻¹ [Σ_i Σ_j x(i) R̂_vv(i−j) x(j)ᵀ] (XᵀX)⁻¹` with
 //! `R̂_vv(l) = (1/N) Σ_i v(i) v(i+l)` from the residuals, pairs taken only within a stretch of
 //! consecutive samples. The double sum is truncated at lag `L = 2 l₀`, `l₀` being the first lag
@@ -52,8 +52,9 @@
 //! [`ACF_NEGLIGIBLE`] (0.05): beyond it the terms are noise about zero, and summing all `N`
 //! lags of noise gives a variance estimate that is itself noise (with an intercept in the
 //! model the residuals sum to zero, so the full sum tends to zero). Doubling `l₀` keeps the
-//! tail (for AR(1) residuals of ρ = 0.9 it leaves out 0.3 % of the sum); no taper is applied,
-//! since a Bartlett taper over `2 l₀` lags would understate that same AR(1) variance by ≈ 10 %.
+//! tail (for AR(1) residuals of ρ = 0.9, `l₀ = 29`, it leaves out ≈ 0.2 % of the sum); no
+//! taper is applied, since a Bartlett taper over those 58 lags would understate that same
+//! AR(1) long-run variance by ≈ 16 %.
 //! The lag is capped at [`MAX_LAG_S`] seconds and at a quarter of the fitted samples (reported
 //! when reached). Even white equation noise gives coloured residuals here (the differentiator
 //! is a moving average over 4 increments), which is why the ordinary SE `σ̂ √((XᵀX)⁻¹)` is
@@ -72,13 +73,16 @@
 //! A rate axis therefore carries a note when its damping is determined positive ("unstable,
 //! or faster than the log resolves") or its time constant is under two sample periods.
 //! For the same reason the quasi-steady rate derivatives of a helicopter depend on the input's
-//! frequency content (on the X-Cell, `L_p` ≈ −19 1/s from the identification sweeps and ≈ −8
-//! 1/s from the verification multisteps): they describe the log's flight, not the rotor.
+//! frequency content (on the X-Cell the roll time constant comes out 0.05 s from the
+//! identification sweeps and 0.12 s from the verification multisteps; `cargo test -p
+//! rotorid-cli --release --test derivatives xcell -- --nocapture` prints both): they describe
+//! the log's flight, not the rotor. Heave and yaw do not go through the flapping: there the
+//! noise-free estimates agree with the simulator's own linearisation within 1 %.
 //!
 //! **Operating regions**: `all` (every usable sample: one linearisation of the whole log, the
-//! model an identifier trained on the log sees; where the helicopter's trim forces change
-//! with speed, its slopes mix the trims, which is why the regions are fitted apart), `hover` (horizontal ground speed <
-//! [`HOVER_MAX_GROUND_SPEED_MPS`]) and `forward` (body forward speed `u` ≥
+//! model an identifier trained on the log sees; where the trim forces change with speed its
+//! slopes mix the trims, which is why the regions are also fitted apart), `hover` (horizontal
+//! ground speed < [`HOVER_MAX_GROUND_SPEED_MPS`]) and `forward` (body forward speed `u` ≥
 //! [`FORWARD_MIN_BODY_SPEED_MPS`]). A region's axis is fitted only with at least
 //! [`SAMPLES_PER_PARAMETER`] (20) samples per parameter (1–2 s of a 50 Hz log for 4–5
 //! parameters): below that the corrected SE, which itself needs the residual autocorrelation,
@@ -89,11 +93,11 @@
 //! **Excitation**: for each stick its standard deviation over the region's samples; "never
 //! excited" when it is below [`NEVER_EXCITED_FRACTION`] (0.02) of full travel, taken as one
 //! stick unit (centre to full deflection; 0 to 1 for the collective). The X-Cell
-//! identification flight's pedal sweep, one quarter of the flight, gives a pedal std of 0.034
+//! identification flight's pedal sweep, one quarter of the flight, gives a pedal std of ≈ 0.036
 //! over the whole flight, which determines `N_ped` well; a threshold of 2 % of the −1…1 span
-//! (0.04) would have flagged it. A never-excited stick's column is
-//! left out of every fit of the region (a constant stick is collinear with the intercept) and
-//! its derivatives are reported as not determined, naming the stick.
+//! (0.04) would have flagged it. A never-excited stick's column is left out of every fit of
+//! the region (a constant stick is collinear with the intercept) and its derivatives are
+//! reported as not determined, naming the stick.
 //!
 //! Written here rather than taken from a crate: no maintained Rust crate does equation-error
 //! identification with the coloured-residual covariance; the linear algebra is nalgebra's.

@@ -396,6 +396,9 @@ fn xcell_identification_flight_has_the_signs_physics_dictates() {
     let flight = identification(1);
     let d = derivatives(&[&flight], 50.0);
     println!("{}", format_derivatives(&d));
+    for e in &region(&d, "all").excitation {
+        println!("  stick {} std {:?}", e.stick, e.std);
+    }
     for name in ["all", "hover"] {
         let r = region(&d, name);
         assert!(r.fitted, "{name}: {:?}", r.reason);
@@ -519,6 +522,9 @@ fn xcell_verification_flight_has_negative_speed_damping() {
         let t0 = std::time::Instant::now();
         let d = derivatives(&[&flight], 50.0);
         elapsed.push(t0.elapsed());
+        if seed == 1 {
+            println!("{}", format_derivatives(&d));
+        }
         let all = region(&d, "all");
         let x_u = derivative(all, "X_u");
         println!(
