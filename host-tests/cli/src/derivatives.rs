@@ -656,7 +656,7 @@ fn fit(
         xs.column_mut(c).scale_mut(1.0 / s);
     }
     let gram = xs.transpose() * &xs;
-    let eig = SymmetricEigen::new(gram.clone());
+    let eig = SymmetricEigen::new(gram);
     let (mut lo, mut hi) = (0usize, 0usize);
     for i in 0..p {
         if eig.eigenvalues[i] < eig.eigenvalues[lo] {
