@@ -7,6 +7,7 @@
 //! compares against) and general-purpose crates; never on the test suite or the firmware link
 //! (arrows point down: tool → simulator → core).
 
+pub mod derivatives;
 pub mod error_chain;
 pub mod experiments;
 pub mod flight_report;
