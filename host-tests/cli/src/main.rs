@@ -1010,6 +1010,11 @@ fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
     if let Some(v) = &verdict {
         print!("{}", rotorid_cli::verdict::format_verdict(v, window));
     }
+    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
+        split.training.iter().map(Vec::as_slice).collect();
+    let derivatives = rotorid_cli::derivatives::derivatives(&segments, rate_hz);
+    let text = rotorid_cli::derivatives::format_derivatives(&derivatives);
+    println!("{}", text.trim_end());
     let metrics = Metrics {
         precision,
         training_files: args.train.iter().map(|p| p.display().to_string()).collect(),
@@ -1030,6 +1035,7 @@ fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
             .map(|(p, im)| report::LogSummary::of(&p.display().to_string(), im))
             .collect(),
         verdict,
+        derivatives: Some(derivatives),
     };
     write_json(&out.join("metrics.json"), &metrics)?;
     let mut figures = 0;

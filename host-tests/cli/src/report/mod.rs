@@ -82,6 +82,11 @@ pub struct Metrics {
     /// The decision: the model to fly, per axis, and what the logs could not show.
     #[serde(default)]
     pub verdict: Option<crate::verdict::Verdict>,
+    /// Body-axis stability and control derivatives of the training data, per operating
+    /// region, with standard errors corrected for coloured residuals
+    /// ([`crate::derivatives`]).
+    #[serde(default)]
+    pub derivatives: Option<crate::derivatives::Derivatives>,
 }
 
 fn default_rate() -> f64 {
