@@ -114,7 +114,7 @@ still air, no sensor noise|c|c
 EOF
 
 mkdir -p "$root/docs/figures"
-"$bin" identify --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
+"$bin" identify --full --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
 "$bin" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
 mkdir -p "$root/docs/figures/noisy"
 "$bin" identify --train ident-noisy.csv --verify verify-noisy.csv --out "$root/docs/figures/noisy" \
