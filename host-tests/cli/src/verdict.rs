@@ -177,6 +177,13 @@ pub fn verdict(
     if model == "flight" {
         caveats.extend(rule_caveats(training));
     }
+    if rate_hz < 50.0 {
+        caveats.push(format!(
+            "identified at {rate_hz} Hz, the rate the log's slowest channel supports: dynamics faster than about {:.1} Hz are not resolved and the one-step scores are per {:.0} ms step; log faster (see the warning)",
+            rate_hz / 4.0,
+            1000.0 / rate_hz
+        ));
+    }
     let n: usize = training.iter().map(Vec::len).sum();
     let min = (MIN_TRAINING_SAMPLES as f64 * rate_hz / 50.0) as usize;
     if n < min {
