@@ -3,16 +3,23 @@
 //! resampled at 50 Hz and split at gaps ([`resample`]). Which topics and messages are read, and
 //! their units and checks: `docs/log-format.md`.
 //!
-//! The format is told by the file's first bytes (ULog magic `ULog\x01\x12\x35`, DataFlash
-//! `0xA3 0x95`), anything else is read as CSV ([`crate::log`]). A CSV log is taken as it is
-//! at 50 Hz; at another rate (its mean interval off by more than
+//! The format is told by the file's first bytes ([`detect`]): ULog magic `ULog\x01\x12\x35`;
+//! DataFlash framing `0xA3 0x95`, an old PX4 `sdlog2` log when its formats say so
+//! ([`sdlog2::is_sdlog2`]); text is read as CSV ([`crate::log`]), except a Git LFS pointer;
+//! anything else is refused. Files are streamed, never read whole into memory. A CSV log is
+//! taken as it is at 50 Hz; at another rate (its mean interval off by more than
 //! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
 
 pub mod dataflash;
+pub mod issues;
+pub mod malformed;
 pub mod resample;
+pub mod sdlog2;
+pub mod stream;
 pub mod synth;
 pub mod ulog;
 
+use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -27,6 +34,8 @@ pub enum LogFormat {
     ULog,
     /// ArduPilot DataFlash.
     DataFlash,
+    /// Old PX4 `sdlog2` (`.px4log`): DataFlash framing, time from `TIME` messages.
+    Sdlog2,
     /// rotorid's CSV (`docs/log-format.md`).
     Csv,
 }
@@ -43,30 +52,36 @@ pub enum ImportError {
         /// The system's reason.
         source: Arc<std::io::Error>,
     },
-    /// The ULog parser needs a UTF-8 path.
-    #[error("{file}: the path is not UTF-8 (the {format} parser needs one)")]
-    PathNotUtf8 {
-        /// The file.
-        file: String,
-        /// "ULog".
-        format: &'static str,
-    },
-    /// The parser gave up on the file.
-    #[error("{file}: malformed {format} log")]
+    /// The log is unreadable from a byte on (what a reader can read past is a note instead).
+    #[error("{file}: malformed {format} log at byte {offset}: {reason}")]
     Malformed {
         /// The file.
         file: String,
-        /// "ULog" or "DataFlash".
+        /// "ULog", "DataFlash" or "PX4 sdlog2".
         format: &'static str,
-        /// The parser's reason.
-        source: Arc<std::io::Error>,
+        /// Byte offset of the offending structure.
+        offset: u64,
+        /// What is wrong.
+        reason: malformed::Malformation,
+    },
+    /// The file is a Git LFS pointer (a few lines of text naming the real file's hash).
+    #[error("{file}: a Git LFS pointer, not the log: run `git lfs pull`")]
+    LfsPointer {
+        /// The file.
+        file: String,
+    },
+    /// The file is binary and in none of the formats.
+    #[error("{file}: not a ULog, DataFlash or CSV log (binary data without the ULog or DataFlash magic bytes)")]
+    NotALog {
+        /// The file.
+        file: String,
     },
     /// A quantity's topic or message is absent (or has no finite sample).
     #[error("{file}: no {quantity}: {format} log has none of {tried}")]
     Missing {
         /// The file.
         file: String,
-        /// "ULog" or "DataFlash".
+        /// "ULog", "DataFlash" or "PX4 sdlog2".
         format: &'static str,
         /// What is missing ("attitude", "helicopter controls", …).
         quantity: &'static str,
@@ -132,30 +147,80 @@ pub fn segments_for_identify(imported: &Imported, all: bool) -> Vec<&Segment> {
     }
 }
 
-/// The format of a file from its first bytes.
-pub fn detect(head: &[u8]) -> LogFormat {
-    if head.starts_with(b"ULog\x01\x12\x35") {
-        LogFormat::ULog
-    } else if head.starts_with(&[0xA3, 0x95]) {
-        LogFormat::DataFlash
+/// Bytes [`import`] reads first to tell the format ([`detect`]).
+pub const HEAD_LEN: usize = 64 * 1024;
+
+/// What a file is, when it is no log [`import`] reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NotALog {
+    /// A Git LFS pointer.
+    LfsPointer,
+    /// Binary data in none of the formats.
+    Binary,
+}
+
+/// The format of a file from its first bytes (up to [`HEAD_LEN`]; fewer only when the file
+/// is shorter).
+pub fn detect(head: &[u8]) -> Result<LogFormat, NotALog> {
+    if head.starts_with(ulog::reader::MAGIC) {
+        return Ok(LogFormat::ULog);
+    }
+    if head.starts_with(&dataflash::reader::MAGIC) {
+        let mut reader = dataflash::reader::Reader::new(head);
+        while let Ok(Some(_)) = reader.next_record() {}
+        return Ok(if sdlog2::is_sdlog2(reader.formats()) {
+            LogFormat::Sdlog2
+        } else {
+            LogFormat::DataFlash
+        });
+    }
+    if head.starts_with(b"version https://git-lfs.github.com/spec/") {
+        return Err(NotALog::LfsPointer);
+    }
+    // Text: UTF-8 (perhaps cut inside a character at the end of the head) without control
+    // characters other than tab, line feed, carriage return and form feed.
+    let text = match std::str::from_utf8(head) {
+        Ok(t) => t,
+        Err(e) if e.error_len().is_none() => {
+            std::str::from_utf8(head.get(..e.valid_up_to()).unwrap_or_default()).unwrap_or("")
+        }
+        Err(_) => return Err(NotALog::Binary),
+    };
+    let control = text
+        .chars()
+        .any(|c| c.is_control() && !matches!(c, '\t' | '\n' | '\r' | '\x0c'));
+    if control {
+        Err(NotALog::Binary)
     } else {
-        LogFormat::Csv
+        Ok(LogFormat::Csv)
     }
 }
 
-/// Reads a log of any supported format.
+/// Reads a log of any supported format, streamed.
 pub fn import(path: &Path) -> Result<Imported, ImportError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| ImportError::Read {
+    let read_err = |e| ImportError::Read {
         file: file.clone(),
         source: Arc::new(e),
+    };
+    let mut input = std::fs::File::open(path).map_err(read_err)?;
+    let mut head = Vec::new();
+    (&mut input)
+        .take(HEAD_LEN as u64)
+        .read_to_end(&mut head)
+        .map_err(read_err)?;
+    let format = detect(&head).map_err(|not| match not {
+        NotALog::LfsPointer => ImportError::LfsPointer { file: file.clone() },
+        NotALog::Binary => ImportError::NotALog { file: file.clone() },
     })?;
-    let format = detect(&bytes);
+    let input = std::io::BufReader::new(std::io::Cursor::new(head).chain(input));
     let (channels, mut notes) = match format {
-        LogFormat::ULog => ulog::channels(&file, path)?,
-        LogFormat::DataFlash => dataflash::channels(&file, &bytes)?,
+        LogFormat::ULog => ulog::channels(&file, input)?,
+        LogFormat::DataFlash => dataflash::channels(&file, input)?,
+        LogFormat::Sdlog2 => sdlog2::channels(&file, input)?,
         LogFormat::Csv => {
-            let samples = log::parse_log(&file, bytes.as_slice())?;
+            let samples = log::parse_log(&file, input)?;
             let Some(rate) = resample::other_rate(&samples) else {
                 return Ok(Imported {
                     format,
