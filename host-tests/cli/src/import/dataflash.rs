@@ -95,11 +95,13 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     let notes = reader.issues().notes(file);
     ch.velocity_ned = if ekf3.t.is_empty() { ekf2 } else { ekf3 };
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
+    let remark = reader.issues().first();
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
+        remark: remark.clone(),
     };
     if ch.attitude.t.is_empty() {
         return Err(missing("attitude", "`ATT` `Roll Pitch Yaw`"));

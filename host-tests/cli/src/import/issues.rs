@@ -51,22 +51,32 @@ impl Issues {
     pub fn notes(&self, file: &str) -> Vec<String> {
         self.items
             .iter()
-            .map(|i| {
-                if i.key == TRUNCATED {
-                    format!(
-                        "{file}: the log is truncated at byte {} (cut mid-record); using the data before the cut",
-                        i.offset
-                    )
-                } else if i.count > 1 {
-                    format!(
-                        "{file}: {} at byte {} ({} times in all)",
-                        i.message, i.offset, i.count
-                    )
-                } else {
-                    format!("{file}: {} at byte {}", i.message, i.offset)
-                }
-            })
+            .map(|i| format!("{file}: {}", i.describe()))
             .collect()
+    }
+
+    /// The first remark, described (for an error that may stem from it).
+    pub fn first(&self) -> Option<String> {
+        self.items.first().map(Issue::describe)
+    }
+}
+
+impl Issue {
+    /// What happened, where, and how often.
+    pub fn describe(&self) -> String {
+        if self.key == TRUNCATED {
+            format!(
+                "the log is truncated at byte {} (cut mid-record); using the data before the cut",
+                self.offset
+            )
+        } else if self.count > 1 {
+            format!(
+                "{} at byte {} ({} times in all)",
+                self.message, self.offset, self.count
+            )
+        } else {
+            format!("{} at byte {}", self.message, self.offset)
+        }
     }
 }
 

@@ -77,7 +77,7 @@ pub enum ImportError {
         file: String,
     },
     /// A quantity's topic or message is absent (or has no finite sample).
-    #[error("{file}: no {quantity}: {format} log has none of {tried}")]
+    #[error("{file}: no {quantity}: {format} log has none of {tried}{}", while_reading(.remark))]
     Missing {
         /// The file.
         file: String,
@@ -87,6 +87,8 @@ pub enum ImportError {
         quantity: &'static str,
         /// The topics/messages looked for.
         tried: &'static str,
+        /// The first problem the reader read past, when there was one (it may be the cause).
+        remark: Option<String>,
     },
     /// All channels are there but never together without a gap.
     #[error("{file}: no stretch where attitude, velocity, rates and controls all have data without a gap over {max_gap_s} s")]
@@ -111,6 +113,14 @@ pub enum ImportError {
     /// A CSV log's error.
     #[error(transparent)]
     Log(#[from] log::LogError),
+}
+
+/// `; while reading: …` for [`ImportError::Missing`] when the reader made a remark.
+fn while_reading(remark: &Option<String>) -> String {
+    remark
+        .as_ref()
+        .map(|r| format!(" (while reading: {r})"))
+        .unwrap_or_default()
 }
 
 /// An imported log: its segments (each gap-free, at 50 Hz) and remarks for the user.

@@ -215,11 +215,13 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
             "{file}: the logger dropped data {dropouts} times ({dropout_ms} ms in all), first at byte {at}"
         ));
     }
+    let remark = reader.issues().first();
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
+        remark: remark.clone(),
     };
     let nonempty = |s: Series<3>| (!s.t.is_empty()).then_some(s);
     let attitude = nonempty(acc.attitude)

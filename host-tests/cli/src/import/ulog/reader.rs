@@ -411,6 +411,16 @@ impl<R: Read> Reader<R> {
                 continue;
             }
             let payload = &rec[3..];
+            if let Some(min) = short(kind, payload) {
+                self.issues.add("short message", offset, || {
+                    format!(
+                        "a `{}` message of {size} bytes, shorter than its {min} bytes of fixed fields and key, was skipped",
+                        char::from(kind).escape_default()
+                    )
+                });
+                self.stream.consume(3 + size);
+                continue;
+            }
             match kind {
                 b'D' => {
                     let id = payload.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]));
@@ -559,6 +569,25 @@ impl<R: Read> Reader<R> {
             self.stream.consume(n);
         }
     }
+}
+
+/// The least length of a message of type `kind` (its fixed fields, and the key that an
+/// information or parameter message says it has) when `payload` is shorter; `None` when it
+/// is long enough or the type has no fixed part.
+fn short(kind: u8, payload: &[u8]) -> Option<usize> {
+    let key = |at: usize| payload.get(at).map_or(0, |&n| usize::from(n));
+    let min = match kind {
+        b'B' => 40,
+        b'F' | b'D' | b'R' | b'O' => 2,
+        b'A' => 4,
+        b'I' | b'P' => 1 + key(0),
+        b'M' | b'Q' => 2 + key(1),
+        b'L' => 9,
+        b'C' => 11,
+        b'S' => SYNC.len(),
+        _ => 0,
+    };
+    (payload.len() < min).then_some(min)
 }
 
 /// Parses a format message's `name:type name;type name;…`; the error quotes it briefly.
