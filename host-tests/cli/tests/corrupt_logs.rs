@@ -378,7 +378,8 @@ fn git_lfs_pointers_and_binary_files_are_named_for_what_they_are() {
     assert!(e.to_string().contains("not a ULog, DataFlash or CSV log"));
     // Text stays CSV (and its error is the CSV reader's).
     assert_eq!(import::detect(b"time_s,u_col\n0,0.5\n"), Ok(LogFormat::Csv));
-    // UTF-8 cut inside a character at the end of the head is still text.
+    // UTF-8 cut inside a character at the end of the head, or Latin-1, is still text.
+    assert_eq!(import::detect(b"# caf\xe9\ntime_s\n"), Ok(LogFormat::Csv));
     assert_eq!(
         import::detect("a,é".as_bytes().split_last().expect("bytes").1),
         Ok(LogFormat::Csv)
@@ -527,4 +528,96 @@ fn in_air_comes_from_the_autopilots_own_state() {
         sdlog2::channels("x.px4log", synth::sdlog2(&samples, true).as_slice()).expect("reads");
     assert_eq!(ch.in_air.t.len(), samples.len());
     assert!(ch.in_air.v.iter().all(|v| v[0] == 1.0));
+}
+
+/// Writes the fuzz targets' seed corpora (`host-tests/fuzz/corpus/{ulog_log,dataflash_log}/`,
+/// each file under 20 KB): generated logs, the real fixtures cut small, and the edge cases
+/// above. Run: `cargo test -p rotorid-cli --test corrupt_logs -- --ignored write_fuzz_seeds`.
+#[test]
+#[ignore = "writes the fuzz seed corpora"]
+fn write_fuzz_seeds() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus");
+    let short = flight(0.4);
+    let with_defs = |log: Vec<u8>, extra: &[u8], at: usize| {
+        let mut log = log;
+        log.splice(at..at, extra.iter().copied());
+        log
+    };
+    let real_ulog =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/logs/esc_status_log.ulg"))
+            .expect("fixture");
+    let mut nested = synth::ulog(&short, true);
+    nested.extend(ulog_msg(b'F', b"inner:uint8_t a;float[2] b;"));
+    nested.extend(ulog_msg(
+        b'F',
+        b"vehicle_land_detected:uint64_t timestamp;inner[2] in;bool landed;uint8_t[3] _padding0;",
+    ));
+    nested.extend(ulog_msg(b'A', b"\x00\x09\x00vehicle_land_detected"));
+    nested.extend(ulog_msg(b'O', &100u16.to_le_bytes()));
+    nested.extend(ulog_msg(b'S', &ulog::reader::SYNC));
+    let mut d = vec![9u8, 0];
+    d.extend_from_slice(&2_000_000u64.to_le_bytes());
+    d.extend_from_slice(&[0; 18]);
+    d.push(1);
+    nested.extend(ulog_msg(b'D', &d));
+    let mut flags = synth::ulog(&short, true);
+    flags[16 + 3 + 8] = 0x02;
+    let ulog_seeds: Vec<(&str, Vec<u8>)> = vec![
+        ("synth_heli.ulg", synth::ulog(&short, true)),
+        ("synth_quad.ulg", synth::ulog(&short, false)),
+        ("real_cut.ulg", real_ulog[..19_000].to_vec()),
+        ("nested_dropout_sync.ulg", nested),
+        (
+            "empty_p.ulg",
+            with_defs(synth::ulog(&short, true), &ulog_msg(b'P', &[]), ULOG_DEFS),
+        ),
+        (
+            "long_key_p.ulg",
+            with_defs(
+                synth::ulog(&short, true),
+                &ulog_msg(b'P', b"\xc8int32_t x"),
+                ULOG_DEFS,
+            ),
+        ),
+        ("flags.ulg", flags),
+    ];
+    let mut small = fmt(1, 0, b"BAD", b"B", b"x");
+    small.extend_from_slice(&[0xA3, 0x95, 1]);
+    let real_sd = std::fs::read(real_sdlog2()).expect("fixture");
+    let fmts = real_sd
+        .chunks(89)
+        .take_while(|c| c.starts_with(&[0xA3, 0x95, 0x80]))
+        .count()
+        * 89;
+    let mut events = synth::dataflash(&short, true);
+    events.extend(fmt(0x90, 3 + 9, b"EV", b"QB", b"TimeUS,Id"));
+    events.extend([&[0xA3, 0x95, 0x90][..], &1_100_000u64.to_le_bytes(), &[10]].concat());
+    let full_df = synth::dataflash(&short, true);
+    let dataflash_seeds: Vec<(&str, Vec<u8>)> = vec![
+        ("synth_heli.bin", full_df.clone()),
+        ("synth_heli.px4log", synth::sdlog2(&short, true)),
+        ("events.bin", events),
+        ("92.bin", small),
+        (
+            "fmt_len0.bin",
+            with_defs(
+                synth::dataflash(&short, true),
+                &fmt(0x81, 0, b"ATT", b"Qfff", b"TimeUS,Roll,Pitch,Yaw"),
+                DF_DEFS,
+            ),
+        ),
+        ("truncated.bin", full_df[..full_df.len() - 7].to_vec()),
+        (
+            "real_sdlog2_cut.px4log",
+            [&real_sd[..fmts], &real_sd[20_557..20_557 + 12_000]].concat(),
+        ),
+    ];
+    for (target, seeds) in [("ulog_log", ulog_seeds), ("dataflash_log", dataflash_seeds)] {
+        let dir = root.join(target);
+        std::fs::create_dir_all(&dir).expect("corpus dir");
+        for (name, bytes) in seeds {
+            assert!(bytes.len() < 20_000, "{name}: {} bytes", bytes.len());
+            std::fs::write(dir.join(name), bytes).expect("write");
+        }
+    }
 }

@@ -19,6 +19,7 @@
 //!
 //! Every record consumes at least its 3-byte header, so reading always ends.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::io::Read;
 
@@ -242,6 +243,9 @@ enum Step {
 pub struct Reader<R> {
     stream: ByteStream<R>,
     formats: HashMap<String, Vec<FieldDef>>,
+    /// Format sizes computed since the last format was defined (a subscription or a field
+    /// lookup then costs one map look-up, whatever the nesting).
+    memo: RefCell<Memo>,
     subs: HashMap<u16, Subscription>,
     /// Bytes of the record returned last, consumed on the next call.
     pending: usize,
@@ -273,6 +277,7 @@ impl<R: Read> Reader<R> {
         Ok(Self {
             stream,
             formats: HashMap::new(),
+            memo: RefCell::new(Memo::new()),
             subs: HashMap::new(),
             pending: 0,
             done: false,
@@ -291,7 +296,7 @@ impl<R: Read> Reader<R> {
         let sub = self.subs.get(&msg_id)?;
         let mut format = sub.format.as_str();
         let mut base = 0usize;
-        let mut memo = Memo::new();
+        let mut memo = self.memo.borrow_mut();
         let mut parts = path.split('.').peekable();
         while let Some(part) = parts.next() {
             let (name, index) = match part.split_once('[') {
@@ -311,7 +316,7 @@ impl<R: Read> Reader<R> {
             }
             let (f, elem) = found?;
             match (index, f.len) {
-                (Some(i), Some(n)) if i < n => offset += i * elem,
+                (Some(i), Some(n)) if i < n => offset = offset.checked_add(i.checked_mul(elem)?)?,
                 (None, None) => {}
                 _ => return None,
             }
@@ -454,7 +459,7 @@ impl<R: Read> Reader<R> {
                         continue;
                     };
                     let topic = String::from_utf8_lossy(name).into_owned();
-                    let layout = self.format_size(&topic, 0, &mut Memo::new());
+                    let layout = self.format_size(&topic, 0, &mut self.memo.borrow_mut());
                     self.stream.consume(3 + size);
                     let Some((max_len, min_len)) = layout else {
                         self.issues.add("bad layout", offset, || {
@@ -492,6 +497,7 @@ impl<R: Read> Reader<R> {
                                 });
                             } else {
                                 self.formats.insert(name, fields);
+                                self.memo.get_mut().clear();
                             }
                         }
                         Err(bad) => self.issues.add("bad format", offset, || {
