@@ -6,7 +6,7 @@
 //!
 //! It replaces the `ardupilot-binlog` crate, which underflows on an `FMT` with a length below
 //! 3 ("capacity overflow"), reads the whole file into memory and gives no byte offsets. This
-//! one reads a record at a time through [`ByteStream`] (memory bounded by 64 KiB and the 255
+//! one reads a record at a time through [`ByteStream`] (memory bounded by its 128 KiB buffer and the 255
 //! formats a type byte allows), never panics, and reports with byte offsets:
 //!
 //! - bytes that start no record of a known type (corrupt data, a type with no `FMT`): skipped

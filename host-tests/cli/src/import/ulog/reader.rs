@@ -6,7 +6,7 @@
 //! It replaces the `px4-ulog` crate, which panics on some corrupt inputs (an empty or
 //! inconsistent parameter message), reads the whole file into memory and gives no byte offsets.
 //! This one reads a record at a time through [`ByteStream`] (memory bounded by the largest
-//! record, 64 KiB, plus the formats), never panics, and reports each problem with its offset:
+//! record: a 128 KiB buffer, plus the formats), never panics, and reports each problem with its offset:
 //!
 //! - a record cut by the end of the input: a [`TRUNCATED`] remark, reading stops;
 //! - a data record of no subscription, or whose length does not fit its format (corrupt
