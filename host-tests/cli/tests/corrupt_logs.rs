@@ -227,7 +227,7 @@ fn dataflash_fmt_lengths_below_3_and_the_92_byte_file() {
 #[test]
 fn dataflash_type_ids_format_strings_and_names_at_their_edges() {
     let dir = tmpdir("df-fields");
-    let cases: [(&str, Vec<u8>); 5] = [
+    let cases: [(&str, Vec<u8>); 7] = [
         // Format characters DataFlash does not define.
         ("char_x.bin", fmt(0x90, 20, b"UNK", b"Qx", b"TimeUS,X")),
         ("char_ff.bin", fmt(0x90, 20, b"UNK", b"\xff", b"X")),
@@ -247,6 +247,13 @@ fn dataflash_type_ids_format_strings_and_names_at_their_edges() {
         ),
         // A record of a type with no FMT.
         ("undefined.bin", vec![0xA3, 0x95, 0x99, 0, 0, 0]),
+        // Fewer labels than format characters.
+        ("labels.bin", fmt(0x90, 3 + 8 + 4, b"LAB", b"Qf", b"TimeUS")),
+        // ATT redefined with another format.
+        (
+            "redefined.bin",
+            fmt(0x81, 3 + 8 + 12, b"ATT", b"Qfff", b"TimeUS,R,P,Y"),
+        ),
     ];
     for (name, extra) in cases {
         if name == "name.bin" {

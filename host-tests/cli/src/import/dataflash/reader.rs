@@ -12,7 +12,9 @@
 //! - bytes that start no record of a known type (corrupt data, a type with no `FMT`): skipped
 //!   byte by byte up to the next record, one remark per kind;
 //! - an `FMT` that cannot be used (length below 3, a format character it does not know, a
-//!   format longer than the length): a remark; fields past the problem read as absent;
+//!   format longer than the length, labels and format characters that do not pair up): a
+//!   remark; fields past the problem read as absent; an `FMT` that redefines a type
+//!   differently: a remark;
 //! - a record cut by the end of the input: a [`TRUNCATED`] remark.
 //!
 //! Every step consumes at least one byte, so reading always ends.
@@ -278,6 +280,16 @@ impl<R: Read> Reader<R> {
             self.formats[usize::from(kind)] = None;
             return;
         }
+        let label_count = labels.split(',').count();
+        if label_count != chars.len() {
+            self.issues.add("FMT labels", offset, || {
+                format!(
+                    "the FMT of `{}` has {} format characters but {label_count} labels; the fields of either without the other are not read",
+                    excerpt(name.as_bytes(), 8),
+                    chars.len()
+                )
+            });
+        }
         let mut fields = Vec::new();
         let mut at = 0usize;
         for (label, c) in labels.split(',').zip(chars.iter().copied()) {
@@ -304,11 +316,21 @@ impl<R: Read> Reader<R> {
             fields.push((label.to_string(), c, at));
             at += size;
         }
-        self.formats[usize::from(kind)] = Some(MessageFormat {
+        let format = MessageFormat {
             name,
             length,
             fields,
-        });
+        };
+        let slot = &mut self.formats[usize::from(kind)];
+        if slot.as_ref().is_some_and(|old| *old != format) {
+            self.issues.add("FMT redefined", offset, || {
+                format!(
+                    "an FMT redefines message type {kind} (`{}`); its records are read with the new format from here on",
+                    excerpt(format.name.as_bytes(), 8)
+                )
+            });
+        }
+        *slot = Some(format);
     }
 }
 
