@@ -355,10 +355,11 @@ mod tests {
     fn every_format_character_reads_as_documented() {
         let mut log = fmt(
             5,
-            3 + 1 + 1 + 2 + 2 + 4 + 4 + 4 + 8 + 2 + 2 + 4 + 4 + 4 + 1 + 8 + 8 + 4,
+            3 + 1 + 1 + 2 + 2 + 4 + 4 + 4 + 8 + 2 + 2 + 4 + 4 + 4 + 1 + 8 + 8,
             "ALL",
-            "bBhHiIfdcCeELMqQn",
-            "b,B,h,H,i,I,f,d,c,C,e,E,L,M,q,Q,n",
+            // 16 characters: all the format field holds.
+            "bBhHiIfdcCeELMqQ",
+            "b,B,h,H,i,I,f,d,c,C,e,E,L,M,q,Q",
         );
         log.extend_from_slice(&[0xA3, 0x95, 5]);
         log.push(-2i8 as u8);
@@ -377,11 +378,10 @@ mod tests {
         log.push(7);
         log.extend_from_slice(&(-5i64).to_le_bytes());
         log.extend_from_slice(&u64::from(u32::MAX).to_le_bytes());
-        log.extend_from_slice(b"abcd");
         let mut r = Reader::new(log.as_slice());
         let rec = r.next_record().expect("reads").expect("a record");
         let got: Vec<Option<f64>> = [
-            "b", "B", "h", "H", "i", "I", "f", "d", "c", "C", "e", "E", "L", "M", "q", "Q", "n",
+            "b", "B", "h", "H", "i", "I", "f", "d", "c", "C", "e", "E", "L", "M", "q", "Q",
         ]
         .iter()
         .map(|l| rec.get(l))
@@ -403,7 +403,6 @@ mod tests {
             Some(7.0),
             Some(-5.0),
             Some(f64::from(u32::MAX)),
-            None,
         ];
         for (g, w) in got.iter().zip(want) {
             match (g, w) {
@@ -412,6 +411,19 @@ mod tests {
             }
         }
         assert!(r.next_record().expect("reads").is_none());
+        assert!(r.issues().items().is_empty(), "{:?}", r.issues());
+    }
+
+    #[test]
+    fn text_and_array_fields_are_placed_but_not_numbers() {
+        let mut log = fmt(6, 3 + 4 + 16 + 64 + 64 + 4, "TXT", "nNZaf", "n,N,Z,a,v");
+        log.extend_from_slice(&[0xA3, 0x95, 6]);
+        log.extend_from_slice(&[b'x'; 4 + 16 + 64 + 64]);
+        log.extend_from_slice(&2.5f32.to_le_bytes());
+        let mut r = Reader::new(log.as_slice());
+        let rec = r.next_record().expect("reads").expect("a record");
+        assert_eq!(["n", "N", "Z", "a"].map(|l| rec.get(l)), [None; 4]);
+        assert_eq!(rec.get("v"), Some(2.5));
         assert!(r.issues().items().is_empty(), "{:?}", r.issues());
     }
 
