@@ -11,7 +11,7 @@ report=1
 [ "${2:-}" = "--no-report" ] && report=0
 rustup toolchain install nightly --profile minimal >/dev/null
 command -v cargo-fuzz >/dev/null 2>&1 || cargo install cargo-fuzz --locked
-targets=(frame_decoder messages csv_log identifier_step parameter_import)
+targets=(frame_decoder messages csv_log identifier_step parameter_import ulog_log dataflash_log)
 cd host-tests/fuzz
 cargo +nightly fuzz build --release >/dev/null
 rows=""
@@ -60,6 +60,10 @@ of panics:
   prediction.
 * \`parameter_import\`: arbitrary exported states into \`import\`; a refused one changes nothing,
   an accepted one keeps the predictions finite.
+* \`ulog_log\`: arbitrary bytes into the ULog reader and importer; on success every channel's
+  time stamps are finite and increasing.
+* \`dataflash_log\`: arbitrary bytes into the format detection and the DataFlash and PX4
+  sdlog2 readers and importers; the same property.
 
 | target | executions | coverage (edges) | features | result |
 |---|---:|---:|---:|---|

@@ -321,6 +321,10 @@ fn median(mut x: Vec<f64>) -> f64 {
 }
 
 #[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "60 simulated flights: runs in the release pass of scripts/test.sh"
+)]
 fn corrected_se_matches_the_scatter_for_white_and_coloured_equation_noise() {
     for (noise, label) in [(Noise::White, "white"), (Noise::Ar1(0.9), "AR(1) rho 0.9")] {
         let (ratio, ratio_ols, coverage) = monte_carlo(noise, label);

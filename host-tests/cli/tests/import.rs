@@ -270,6 +270,15 @@ fn incomplete_truncated_and_garbage_logs() {
     let full = synth::dataflash(&flight, true);
     let imported =
         import_bytes(&dir, "cut.bin", &full[..full.len() / 2 + 5]).expect("prefix imports");
+    // DataFlash too gets its note (issue 34: it had none).
+    assert!(
+        imported
+            .notes
+            .iter()
+            .any(|n| n.contains("cut.bin: the log is truncated at byte")),
+        "{:?}",
+        imported.notes
+    );
     let n = imported.segments[0].len();
     assert!(n > 50 && n < flight.len(), "{n}");
 

@@ -3,8 +3,7 @@
 //! what the autopilot projects' own readers say of it: `data/logs/real/facts.json`, written by
 //! `scripts/real_log_facts.py` with pyulog (ULog) and pymavlink (DataFlash, sdlog2).
 //!
-//! The tests without `#[ignore]` hold for today's importer. The ignored one states what the
-//! import must do once the new readers land (issue 34 part 4).
+//! Each property is what the import must do on real logs (issue 34 parts 1, 2, 4).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -155,16 +154,13 @@ fn fixtures_are_the_files_the_oracle_read_and_the_readme_lists() {
 fn format_is_told_by_the_first_bytes() {
     for f in facts() {
         let bytes = std::fs::read(f.path()).expect("fixture present");
-        let format = import::detect(&bytes[..bytes.len().min(16)]);
+        // The head the importer reads: sdlog2 and DataFlash share their framing (0xA3 0x95)
+        // and are told apart by their formats (sdlog2's `TIME` with `StartTime`).
+        let format = import::detect(&bytes[..bytes.len().min(import::HEAD_LEN)]);
         match f.format.as_str() {
-            "ULog" => assert_eq!(format, LogFormat::ULog, "{}", f.file),
-            "DataFlash" => assert_eq!(format, LogFormat::DataFlash, "{}", f.file),
-            // sdlog2 shares DataFlash's framing (0xA3 0x95); never a CSV or a ULog.
-            "sdlog2" => assert!(
-                format != LogFormat::Csv && format != LogFormat::ULog,
-                "{}: {format:?}",
-                f.file
-            ),
+            "ULog" => assert_eq!(format, Ok(LogFormat::ULog), "{}", f.file),
+            "DataFlash" => assert_eq!(format, Ok(LogFormat::DataFlash), "{}", f.file),
+            "sdlog2" => assert_eq!(format, Ok(LogFormat::Sdlog2), "{}", f.file),
             other => panic!("{}: unknown format {other} in facts.json", f.file),
         }
     }
@@ -272,7 +268,6 @@ fn a_ulog_without_valid_velocity_says_so() {
 /// An sdlog2 log (old PX4, `.px4log`) is read as one, or the error says what it is — not
 /// "DataFlash log has none of ATT" (its ATT records exist; they have no `TimeUS`).
 #[test]
-#[ignore = "needs the sdlog2 reader/diagnosis (issue 34 part 4); enable after merging it"]
 fn sdlog2_logs_are_recognised() {
     let mut seen = 0;
     for (f, r) in imports() {

@@ -12,8 +12,10 @@ use crate::log::MAX_RATE_RADPS;
 pub const MAX_VELOCITY_MPS: f64 = 100.0;
 
 /// A normalised control beyond ±1 by more than this is implausible (a unit or scaling
-/// problem); within it, rounding in the autopilot, and the value is clamped.
-pub const CONTROL_SLACK: f64 = 0.01;
+/// problem, a corrupt record). Within it, the controller asked for more than the actuators
+/// give (PX4's `ATTC` outputs go a few per cent past ±1 in real logs): the mixer saturates
+/// it, the rotor saw ±1, and the value is clamped, with a note.
+pub const CONTROL_SLACK: f64 = 1.0;
 
 /// A collective (thrust) at or below this, normalised 0…1, is the rotor at idle: on the
 /// ground (the fallback in-air detector when the log has no land detector or arming state).
@@ -129,10 +131,20 @@ pub fn implausible_cuts(ch: &mut Channels) -> Vec<Cut> {
             u[i]
         ))
     }));
-    for u in &mut ch.controls.v {
-        u.iter_mut().for_each(|x| *x = x.clamp(-1.0, 1.0));
-    }
     cuts
+}
+
+/// Clamps the controls to ±1 (what the mixer lets through); returns how many samples were
+/// clamped.
+pub fn saturate_controls(ch: &mut Channels) -> usize {
+    let mut clamped = 0;
+    for u in &mut ch.controls.v {
+        if u.iter().any(|x| x.abs() > 1.0) {
+            clamped += 1;
+            u.iter_mut().for_each(|x| *x = x.clamp(-1.0, 1.0));
+        }
+    }
+    clamped
 }
 
 /// The cuts outside the window `[from, to]` (log time, s).
@@ -287,6 +299,9 @@ pub fn rate_advice(format: super::LogFormat) -> &'static str {
         }
         super::LogFormat::DataFlash => {
             "ArduPilot: set LOG_BITMASK bit 0 (ATTITUDE_FAST) to log ATT and RATE at the loop rate"
+        }
+        super::LogFormat::Sdlog2 => {
+            "PX4 sdlog2: start the logger at a higher rate (`sdlog2 start -r 100`)"
         }
         _ => "log every quantity at 50 Hz or faster",
     }

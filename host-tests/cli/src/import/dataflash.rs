@@ -1,5 +1,6 @@
-//! ArduPilot DataFlash (`.bin`) → [`Channels`], with `ardupilot-binlog`. Time stamps from each
-//! message's `TimeUS` (µs since boot).
+//! ArduPilot DataFlash (`.bin`) → [`Channels`], streamed through this crate's own [`reader`]
+//! (why not the `ardupilot-binlog` crate: see there). Time stamps from each message's `TimeUS`
+//! (µs since boot; older logs' `TimeMS` × 1000), pushed in log order.
 //!
 //! | quantity | message and fields | unit in the log → here |
 //! |---|---|---|
@@ -7,84 +8,100 @@
 //! | velocity | `XKF1` `VN VE VD` (EKF3, core `C` = 0); older logs `NKF1` (EKF2) | m/s |
 //! | body rates | `RATE` `R P Y` (the rate controller's measured rates, FRD) | deg/s → rad/s |
 //! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + `CTUN` `ThO` (collective, 0…1, held) | — |
+//! | in air | `EV` `Id` (10 armed, 28 not landed → 1; 11 disarmed, 18 land complete → 0) and `ARM` `ArmState` (≠ 0 → 1) | 1 / 0 |
 //!
 //! The controls are the controllers' normalised outputs before the TradHeli swashplate mixer
 //! (`RCOU` PWM would need the swashplate geometry and servo trims to undo): pedal = `YOut`,
 //! longitudinal cyclic = `POut` (nose up), lateral = `ROut`, collective = `ThO`.
 
-use std::io::Cursor;
+pub mod reader;
 
-use ardupilot_binlog::{Entry, Reader};
+use std::io::Read;
 
+use super::malformed::{Malformation, ReadError};
 use super::resample::merge_held;
+use super::ulog::read_error;
 use super::{Channels, ImportError, Series};
+use reader::Reader;
 
 const FORMAT: &str = "DataFlash";
 
-fn fields<const N: usize>(e: &Entry, names: [&str; N]) -> Option<[f64; N]> {
-    let v: Vec<f64> = names.iter().map(|n| e.get_f64(n)).collect::<Option<_>>()?;
-    v.try_into().ok()
+/// Yaw in degrees 0…360 (or any) → radians in (−π, π].
+pub(super) fn wrap_deg(y: f64) -> f64 {
+    let deg = std::f64::consts::PI / 180.0;
+    (y * deg + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
-/// Reads the channels of a DataFlash log held in `bytes`; `file` names it in errors.
-pub fn channels(file: &str, bytes: &[u8]) -> Result<(Channels, Vec<String>), ImportError> {
+/// Reads the channels of the DataFlash log `input` (streamed); `file` names it in errors.
+pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>), ImportError> {
     let deg = std::f64::consts::PI / 180.0;
     let mut ch = Channels::default();
     let (mut ekf3, mut ekf2) = (Series::<3>::default(), Series::<3>::default());
     let (mut outs, mut collective) = (Series::<3>::default(), Series::<1>::default());
-    let mut notes = Vec::new();
-    for entry in Reader::new(Cursor::new(bytes)) {
-        let e = match entry {
-            Ok(e) => e,
-            Err(err) => {
-                notes.push(format!("{file}: reading stopped early: {err}"));
-                break;
-            }
-        };
-        let Some(t) = e.timestamp_usec.map(|us| us as f64 / 1e6) else {
+    let mut reader = Reader::new(input);
+    let err = |e| read_error(file, FORMAT, e);
+    while let Some(e) = reader.next_record().map_err(err)? {
+        let Some(t) = e.time_us().map(|us| us / 1e6) else {
             continue;
         };
-        match e.name.as_str() {
+        match e.format.name.as_str() {
             "ATT" => {
-                if let Some([r, p, y]) = fields(&e, ["Roll", "Pitch", "Yaw"]) {
-                    let yaw = (y * deg + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                        - std::f64::consts::PI;
-                    ch.attitude.push(t, [r * deg, p * deg, yaw]);
+                if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
+                    ch.attitude.push(t, [r * deg, p * deg, wrap_deg(y)]);
                 }
             }
-            "XKF1" if e.get_f64("C").is_none_or(|c| c == 0.0) => {
-                if let Some(v) = fields(&e, ["VN", "VE", "VD"]) {
+            "XKF1" if e.get("C").is_none_or(|c| c == 0.0) => {
+                if let Some(v) = e.fields(["VN", "VE", "VD"]) {
                     ekf3.push(t, v);
                 }
             }
             "NKF1" => {
-                if let Some(v) = fields(&e, ["VN", "VE", "VD"]) {
+                if let Some(v) = e.fields(["VN", "VE", "VD"]) {
                     ekf2.push(t, v);
                 }
             }
             "RATE" => {
-                if let Some([r, p, y]) = fields(&e, ["R", "P", "Y"]) {
+                if let Some([r, p, y]) = e.fields(["R", "P", "Y"]) {
                     ch.rates_frd.push(t, [r * deg, p * deg, y * deg]);
                 }
-                if let Some(u) = fields(&e, ["YOut", "POut", "ROut"]) {
+                if let Some(u) = e.fields(["YOut", "POut", "ROut"]) {
                     outs.push(t, u);
                 }
             }
             "CTUN" => {
-                if let Some(u) = fields(&e, ["ThO"]) {
+                if let Some(u) = e.fields(["ThO"]) {
                     collective.push(t, u);
+                }
+            }
+            "EV" => match e.get("Id") {
+                Some(10.0 | 28.0) => ch.in_air.push(t, [1.0]),
+                Some(11.0 | 18.0) => ch.in_air.push(t, [0.0]),
+                _ => {}
+            },
+            "ARM" => {
+                if let Some(s) = e.get("ArmState") {
+                    ch.in_air.push(t, [if s != 0.0 { 1.0 } else { 0.0 }]);
                 }
             }
             _ => {}
         }
     }
+    if reader.records() == 0 {
+        return Err(err(ReadError::Malformed {
+            offset: 0,
+            reason: Malformation::NoRecords,
+        }));
+    }
+    let notes = reader.issues().notes(file);
     ch.velocity_ned = if ekf3.t.is_empty() { ekf2 } else { ekf3 };
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
+    let remark = reader.issues().first();
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
+        remark: remark.clone(),
     };
     if ch.attitude.t.is_empty() {
         return Err(missing("attitude", "`ATT` `Roll Pitch Yaw`"));

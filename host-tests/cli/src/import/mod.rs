@@ -3,17 +3,24 @@
 //! resampled at 50 Hz and split at gaps ([`resample`]). Which topics and messages are read, and
 //! their units and checks: `docs/log-format.md`.
 //!
-//! The format is told by the file's first bytes (ULog magic `ULog\x01\x12\x35`, DataFlash
-//! `0xA3 0x95`), anything else is read as CSV ([`crate::log`]). A CSV log is taken as it is
-//! at 50 Hz; at another rate (its mean interval off by more than
+//! The format is told by the file's first bytes ([`detect`]): ULog magic `ULog\x01\x12\x35`;
+//! DataFlash framing `0xA3 0x95`, an old PX4 `sdlog2` log when its formats say so
+//! ([`sdlog2::is_sdlog2`]); text is read as CSV ([`crate::log`]), except a Git LFS pointer;
+//! anything else is refused. Files are streamed, never read whole into memory. A CSV log is
+//! taken as it is at 50 Hz; at another rate (its mean interval off by more than
 //! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
 
 pub mod clean;
 pub mod dataflash;
+pub mod issues;
+pub mod malformed;
 pub mod resample;
+pub mod sdlog2;
+pub mod stream;
 pub mod synth;
 pub mod ulog;
 
+use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -29,6 +36,8 @@ pub enum LogFormat {
     ULog,
     /// ArduPilot DataFlash.
     DataFlash,
+    /// Old PX4 `sdlog2` (`.px4log`): DataFlash framing, time from `TIME` messages.
+    Sdlog2,
     /// rotorid's CSV (`docs/log-format.md`).
     Csv,
 }
@@ -45,35 +54,43 @@ pub enum ImportError {
         /// The system's reason.
         source: Arc<std::io::Error>,
     },
-    /// The ULog parser needs a UTF-8 path.
-    #[error("{file}: the path is not UTF-8 (the {format} parser needs one)")]
-    PathNotUtf8 {
-        /// The file.
-        file: String,
-        /// "ULog".
-        format: &'static str,
-    },
-    /// The parser gave up on the file.
-    #[error("{file}: malformed {format} log")]
+    /// The log is unreadable from a byte on (what a reader can read past is a note instead).
+    #[error("{file}: malformed {format} log at byte {offset}: {reason}")]
     Malformed {
         /// The file.
         file: String,
-        /// "ULog" or "DataFlash".
+        /// "ULog", "DataFlash" or "PX4 sdlog2".
         format: &'static str,
-        /// The parser's reason.
-        source: Arc<std::io::Error>,
+        /// Byte offset of the offending structure.
+        offset: u64,
+        /// What is wrong.
+        reason: malformed::Malformation,
+    },
+    /// The file is a Git LFS pointer (a few lines of text naming the real file's hash).
+    #[error("{file}: a Git LFS pointer, not the log: run `git lfs pull`")]
+    LfsPointer {
+        /// The file.
+        file: String,
+    },
+    /// The file is binary and in none of the formats.
+    #[error("{file}: not a ULog, DataFlash or CSV log (binary data without the ULog or DataFlash magic bytes)")]
+    NotALog {
+        /// The file.
+        file: String,
     },
     /// A quantity's topic or message is absent (or has no finite sample).
-    #[error("{file}: no {quantity}: {format} log has none of {tried}")]
+    #[error("{file}: no {quantity}: {format} log has none of {tried}{}", while_reading(.remark))]
     Missing {
         /// The file.
         file: String,
-        /// "ULog" or "DataFlash".
+        /// "ULog", "DataFlash" or "PX4 sdlog2".
         format: &'static str,
         /// What is missing ("attitude", "helicopter controls", …).
         quantity: &'static str,
         /// The topics/messages looked for.
         tried: &'static str,
+        /// The first problem the reader read past, when there was one (it may be the cause).
+        remark: Option<String>,
     },
     /// All channels are there but never together without a gap.
     #[error("{file}: no stretch where attitude, velocity, rates and controls all have data without a gap over {max_gap_s} s")]
@@ -98,6 +115,14 @@ pub enum ImportError {
     /// A CSV log's error.
     #[error(transparent)]
     Log(#[from] log::LogError),
+}
+
+/// `; while reading: …` for [`ImportError::Missing`] when the reader made a remark.
+fn while_reading(remark: &Option<String>) -> String {
+    remark
+        .as_ref()
+        .map(|r| format!(" (while reading: {r})"))
+        .unwrap_or_default()
 }
 
 /// An imported log: its segments (each gap-free, at [`rate_hz`](Self::rate_hz)) and remarks
@@ -165,14 +190,47 @@ pub fn min_useful_samples(rate_hz: f64) -> usize {
     }
 }
 
-/// The format of a file from its first bytes.
-pub fn detect(head: &[u8]) -> LogFormat {
-    if head.starts_with(b"ULog\x01\x12\x35") {
-        LogFormat::ULog
-    } else if head.starts_with(&[0xA3, 0x95]) {
-        LogFormat::DataFlash
+/// Bytes [`import`] reads first to tell the format ([`detect`]).
+pub const HEAD_LEN: usize = 64 * 1024;
+
+/// What a file is, when it is no log [`import`] reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NotALog {
+    /// A Git LFS pointer.
+    LfsPointer,
+    /// Binary data in none of the formats.
+    Binary,
+}
+
+/// The format of a file from its first bytes (up to [`HEAD_LEN`]; fewer only when the file
+/// is shorter).
+pub fn detect(head: &[u8]) -> Result<LogFormat, NotALog> {
+    if head.starts_with(ulog::reader::MAGIC) {
+        return Ok(LogFormat::ULog);
+    }
+    if head.starts_with(&dataflash::reader::MAGIC) {
+        let mut reader = dataflash::reader::Reader::new(head);
+        while let Ok(Some(_)) = reader.next_record() {}
+        return Ok(if sdlog2::is_sdlog2(reader.formats()) {
+            LogFormat::Sdlog2
+        } else {
+            LogFormat::DataFlash
+        });
+    }
+    if head.starts_with(b"version https://git-lfs.github.com/spec/") {
+        return Err(NotALog::LfsPointer);
+    }
+    // Text in any ASCII-compatible encoding: no NUL byte, and control characters other than
+    // white space (a stray DOS end-of-file mark, say) under 1 % of the bytes.
+    let controls = head
+        .iter()
+        .filter(|&&b| (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c)) || b == 0x7f)
+        .count();
+    if head.contains(&0) || controls * 100 > head.len() {
+        Err(NotALog::Binary)
     } else {
-        LogFormat::Csv
+        Ok(LogFormat::Csv)
     }
 }
 
@@ -183,25 +241,40 @@ pub fn import(path: &Path) -> Result<Imported, ImportError> {
 }
 
 /// What a format's reader gives: a CSV log at 50 Hz taken as it is, or channels to resample.
-enum Read {
+enum Reading {
     AsIs(Vec<SensorSample>, Vec<String>),
     Channels(Box<Channels>, Vec<String>),
 }
 
-/// Reads the channels of a log (the format's reader), or a 50 Hz CSV log as it is.
-fn read_log(path: &Path, file: &str) -> Result<(LogFormat, Read), ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::Read {
+/// Reads the channels of a log (the format's reader, streamed), or a 50 Hz CSV log as it is.
+fn read_log(path: &Path, file: &str) -> Result<(LogFormat, Reading), ImportError> {
+    let read_err = |e| ImportError::Read {
         file: file.to_string(),
         source: Arc::new(e),
+    };
+    let mut input = std::fs::File::open(path).map_err(read_err)?;
+    let mut head = Vec::new();
+    (&mut input)
+        .take(HEAD_LEN as u64)
+        .read_to_end(&mut head)
+        .map_err(read_err)?;
+    let format = detect(&head).map_err(|not| match not {
+        NotALog::LfsPointer => ImportError::LfsPointer {
+            file: file.to_string(),
+        },
+        NotALog::Binary => ImportError::NotALog {
+            file: file.to_string(),
+        },
     })?;
-    let format = detect(&bytes);
+    let input = std::io::BufReader::new(std::io::Cursor::new(head).chain(input));
     let (channels, notes) = match format {
-        LogFormat::ULog => ulog::channels(file, path)?,
-        LogFormat::DataFlash => dataflash::channels(file, &bytes)?,
+        LogFormat::ULog => ulog::channels(file, input)?,
+        LogFormat::DataFlash => dataflash::channels(file, input)?,
+        LogFormat::Sdlog2 => sdlog2::channels(file, input)?,
         LogFormat::Csv => {
-            let (samples, mut notes) = log::parse_log_noted(file, bytes.as_slice())?;
+            let (samples, mut notes) = log::parse_log_noted(file, input)?;
             let Some(rate) = resample::other_rate(&samples) else {
-                return Ok((format, Read::AsIs(samples, notes)));
+                return Ok((format, Reading::AsIs(samples, notes)));
             };
             notes.push(format!(
                 "{file}: sampled at {rate:.1} Hz, not {} Hz: resampled (states interpolated linearly, controls held)",
@@ -210,7 +283,7 @@ fn read_log(path: &Path, file: &str) -> Result<(LogFormat, Read), ImportError> {
             (Channels::of_samples(&samples), notes)
         }
     };
-    Ok((format, Read::Channels(Box::new(channels), notes)))
+    Ok((format, Reading::Channels(Box::new(channels), notes)))
 }
 
 /// Reads a log of any supported format and prepares it for identification: implausible
@@ -221,10 +294,10 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
     let file = path.display().to_string();
     let (format, read) = read_log(path, &file)?;
     let (mut channels, mut notes) = match read {
-        Read::AsIs(samples, notes) => {
+        Reading::AsIs(samples, notes) => {
             return as_is(&file, format, samples, notes, options);
         }
-        Read::Channels(ch, notes) => (*ch, notes),
+        Reading::Channels(ch, notes) => (*ch, notes),
     };
     for (name, glitches) in [
         ("attitude", &channels.attitude.glitches),
@@ -261,6 +334,12 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
         ));
     }
     let mut cuts = clean::implausible_cuts(&mut channels);
+    let clamped = clean::saturate_controls(&mut channels);
+    if clamped > 0 {
+        notes.push(format!(
+            "{file}: {clamped} control sample(s) beyond ±1 (the controller asked for more than the actuators give) clamped to ±1"
+        ));
+    }
     let in_air = if options.from_s.is_some() || options.to_s.is_some() {
         cuts.extend(clean::window_cuts(options.from_s, options.to_s));
         None

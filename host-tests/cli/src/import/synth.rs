@@ -1,8 +1,9 @@
-//! Minimal writers of ULog and DataFlash logs from [`SensorSample`]s, after the formats'
-//! specifications (PX4 "ULog File Format", ArduPilot `LogStructure.h`): only the topics and
-//! messages [`super::ulog`] and [`super::dataflash`] read, one sample per row. They make
-//! helicopter logs for tests and examples (no real helicopter log with these topics is public
-//! under a licence that allows committing it); neither parser crate writes logs.
+//! Minimal writers of ULog, DataFlash and PX4 sdlog2 logs from [`SensorSample`]s, after the
+//! formats' specifications (PX4 "ULog File Format", ArduPilot `LogStructure.h`, PX4's
+//! `sdlog2_messages.h`): only the topics and messages [`super::ulog`], [`super::dataflash`]
+//! and [`super::sdlog2`] read, one sample per row. They make helicopter logs for tests,
+//! examples and fuzz seeds (no real helicopter log with all these topics is public under a
+//! licence that allows committing it).
 
 use rotorid_sim::plant::SensorSample;
 
@@ -133,6 +134,57 @@ pub fn dataflash(samples: &[SensorSample], controls: bool) -> Vec<u8> {
         for (kind, row) in rows.iter().take(formats.len()) {
             buf.extend_from_slice(&[0xA3, 0x95, *kind]);
             buf.extend_from_slice(&micros(s.t).to_le_bytes());
+            buf.extend_from_slice(row);
+        }
+    }
+    buf
+}
+
+/// An old PX4 `sdlog2` log (DataFlash framing, PX4's messages of 2016): per sample a `TIME`
+/// (`StartTime`, µs), `ATT` (rad, rad/s), `LPOS` (`VX VY VZ`), `STAT` (`ArmS` = 2, armed)
+/// and, with `controls`, `ATTC` (`Roll Pitch Yaw Thrust` = lat, lon, ped, col).
+pub fn sdlog2(samples: &[SensorSample], controls: bool) -> Vec<u8> {
+    // (type, name, format, labels, payload length), as the T-REX 550 logs define them
+    // (trimmed to the fields read).
+    let mut formats = vec![
+        (129u8, "TIME", "Q", "StartTime", 8),
+        (
+            2,
+            "ATT",
+            "ffffff",
+            "Roll,Pitch,Yaw,RollRate,PitchRate,YawRate",
+            24,
+        ),
+        (6, "LPOS", "fff", "VX,VY,VZ", 12),
+        (
+            10,
+            "STAT",
+            "BBBBf",
+            "MainState,NavState,ArmS,Failsafe,Load",
+            8,
+        ),
+    ];
+    if controls {
+        formats.push((9, "ATTC", "ffff", "Roll,Pitch,Yaw,Thrust", 16));
+    }
+    let mut buf = Vec::new();
+    for (kind, name, format, labels, len) in &formats {
+        buf.extend_from_slice(&[0xA3, 0x95, 0x80, *kind, (3 + len) as u8]);
+        buf.extend_from_slice(&padded::<4>(name));
+        buf.extend_from_slice(&padded::<16>(format));
+        buf.extend_from_slice(&padded::<64>(labels));
+    }
+    for s in samples {
+        let u = &s.sticks;
+        let rows: [(u8, Vec<u8>); 5] = [
+            (129, micros(s.t).to_le_bytes().to_vec()),
+            (2, floats(&[s.roll, s.pitch, s.yaw, s.p, s.q, s.r])),
+            (6, floats(&[s.v_north, s.v_east, s.v_down])),
+            (10, [&[1u8, 1, 2, 0][..], &0.5f32.to_le_bytes()].concat()),
+            (9, floats(&[u.lat, u.lon, u.ped, u.col])),
+        ];
+        for (kind, row) in rows.iter().take(formats.len()) {
+            buf.extend_from_slice(&[0xA3, 0x95, *kind]);
             buf.extend_from_slice(row);
         }
     }

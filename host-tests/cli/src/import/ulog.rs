@@ -1,5 +1,6 @@
-//! PX4 ULog (`.ulg`) → [`Channels`], with `px4-ulog` (PX4's parser). Instance 0 of each topic;
-//! time stamps in µs since boot (`timestamp_sample` where the topic has it, else `timestamp`).
+//! PX4 ULog (`.ulg`) → [`Channels`], streamed through this crate's own [`reader`] (why not the
+//! `px4-ulog` crate: see there). Instance 0 of each topic (multi id 0); time stamps in µs since
+//! boot (`timestamp_sample` where the topic has it, else `timestamp`), pushed in log order.
 //!
 //! | quantity | topic and fields | unit |
 //! |---|---|---|
@@ -7,79 +8,121 @@
 //! | velocity | `vehicle_local_position`: `vx vy vz` (NED), while `v_xy_valid`/`v_z_valid` | m/s |
 //! | body rates | `vehicle_angular_velocity`: `xyz[0..3]` (FRD); older logs: `vehicle_attitude` `rollspeed pitchspeed yawspeed` | rad/s |
 //! | controls | `vehicle_torque_setpoint` `xyz` + `vehicle_thrust_setpoint` `xyz[2]`; older logs: `actuator_controls_0` `control[0..4]` | −1…1, thrust 0…1 |
+//! | in air | `vehicle_land_detected` `landed` (in air = not landed); else `vehicle_status` `arming_state` (2 armed, 3 armed with error) | 1 / 0 |
 //!
 //! The controls are the attitude controller's normalised outputs before the mixer (what the
 //! helicopter mixer turns into swashplate and tail commands): collective = −thrust z (FRD z is
 //! down), pedal = torque z, longitudinal cyclic = torque y (nose up), lateral = torque x.
 
+pub mod reader;
+
 use std::collections::HashMap;
-use std::path::Path;
-use std::sync::Arc;
+use std::io::Read;
 
-use px4_ulog::full_parser::{read_file, Completeness, SomeVec};
-
+use super::malformed::ReadError;
 use super::resample::merge_held;
 use super::{Channels, ImportError, Series};
+use reader::{Event, Field, Reader};
 
 const FORMAT: &str = "ULog";
 
-type Topic = HashMap<String, SomeVec>;
+/// The topics read, and the fields of each (in the order [`Acc::push`] takes them).
+const TOPICS: [(&str, &[&str]); 8] = [
+    (
+        "vehicle_attitude",
+        &[
+            "q[0]",
+            "q[1]",
+            "q[2]",
+            "q[3]",
+            "rollspeed",
+            "pitchspeed",
+            "yawspeed",
+        ],
+    ),
+    (
+        "vehicle_local_position",
+        &["vx", "vy", "vz", "v_xy_valid", "v_z_valid"],
+    ),
+    ("vehicle_angular_velocity", &["xyz[0]", "xyz[1]", "xyz[2]"]),
+    ("vehicle_torque_setpoint", &["xyz[0]", "xyz[1]", "xyz[2]"]),
+    ("vehicle_thrust_setpoint", &["xyz[0]", "xyz[1]", "xyz[2]"]),
+    (
+        "actuator_controls_0",
+        &["control[0]", "control[1]", "control[2]", "control[3]"],
+    ),
+    ("vehicle_land_detected", &["landed"]),
+    ("vehicle_status", &["arming_state"]),
+];
 
-fn as_f64(v: &SomeVec) -> Vec<f64> {
-    match v {
-        SomeVec::Int8(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::UInt8(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::Int16(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::UInt16(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::Int32(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::UInt32(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::Int64(x) => x.iter().map(|&a| a as f64).collect(),
-        SomeVec::UInt64(x) => x.iter().map(|&a| a as f64).collect(),
-        SomeVec::Float(x) => x.iter().map(|&a| f64::from(a)).collect(),
-        SomeVec::Double(x) => x.clone(),
-        SomeVec::Bool(x) => x.iter().map(|&a| f64::from(u8::from(a))).collect(),
-        SomeVec::Char(x) => x.iter().map(|&a| f64::from(u32::from(a))).collect(),
-    }
+/// A subscription of instance 0 of one of [`TOPICS`]: which, and its located fields.
+struct Sub {
+    topic: usize,
+    time: Field,
+    fields: Vec<Option<Field>>,
 }
 
-/// Columns `fields` of `topic` with its time stamps (s), rows where all are present.
-fn columns<const N: usize>(topic: &Topic, fields: [&str; N]) -> Option<(Vec<f64>, Vec<[f64; N]>)> {
-    let t = topic
-        .get("timestamp_sample")
-        .or_else(|| topic.get("timestamp"))
-        .map(as_f64)?;
-    let cols: Vec<Vec<f64>> = fields
-        .iter()
-        .map(|f| topic.get(*f).map(as_f64))
-        .collect::<Option<_>>()?;
-    let n = cols.iter().map(Vec::len).fold(t.len(), usize::min);
-    let t = t[..n].iter().map(|us| us / 1e6).collect();
-    let rows = (0..n)
-        .map(|k| core::array::from_fn(|i| cols[i][k]))
-        .collect();
-    Some((t, rows))
+/// The series gathered while reading.
+#[derive(Default)]
+struct Acc {
+    attitude: Series<3>,
+    attitude_rates: Series<3>,
+    velocity: Series<3>,
+    any_velocity: bool,
+    angular_velocity: Series<3>,
+    torque: Series<3>,
+    thrust: Series<3>,
+    actuator_controls: Series<4>,
+    landed: Series<1>,
+    armed: Series<1>,
 }
 
-/// A series from `fields` of `topic`, each row mapped by `map(row index, values)` (`None`
-/// drops the row).
-fn series<const N: usize, const M: usize>(
-    topic: Option<&Topic>,
-    fields: [&str; N],
-    mut map: impl FnMut(usize, [f64; N]) -> Option<[f64; M]>,
-) -> Option<Series<M>> {
-    let (t, rows) = columns(topic?, fields)?;
-    let mut s = Series::default();
-    for (k, (t, r)) in t.into_iter().zip(rows).enumerate() {
-        if let Some(v) = map(k, r) {
-            s.push(t, v);
+impl Acc {
+    /// One data record of topic `topic` at `t` (s), its fields' values.
+    fn push(&mut self, topic: usize, t: f64, v: &[Option<f64>]) {
+        let get = |i: usize| v.get(i).copied().flatten();
+        let arr = |from: usize| -> Option<[f64; 3]> {
+            Some([get(from)?, get(from + 1)?, get(from + 2)?])
+        };
+        match topic {
+            0 => {
+                if let (Some(xyz), Some(w)) = (arr(1), get(0)) {
+                    self.attitude
+                        .push(t, quaternion_to_euler([w, xyz[0], xyz[1], xyz[2]]));
+                }
+                if let Some(r) = arr(4) {
+                    self.attitude_rates.push(t, r);
+                }
+            }
+            1 => {
+                if let Some(vel) = arr(0) {
+                    self.any_velocity = true;
+                    // Only while the estimator flags it valid (older logs have no flags).
+                    if [get(3), get(4)].iter().all(|f| f.is_none_or(|f| f != 0.0)) {
+                        self.velocity.push(t, vel);
+                    }
+                }
+            }
+            2 => arr(0)
+                .into_iter()
+                .for_each(|x| self.angular_velocity.push(t, x)),
+            3 => arr(0).into_iter().for_each(|x| self.torque.push(t, x)),
+            4 => arr(0).into_iter().for_each(|x| self.thrust.push(t, x)),
+            5 => {
+                if let (Some(c), Some(c3)) = (arr(0), get(3)) {
+                    self.actuator_controls.push(t, [c3, c[2], c[1], c[0]]);
+                }
+            }
+            6 => get(0).into_iter().for_each(|l| {
+                self.landed.push(t, [if l != 0.0 { 0.0 } else { 1.0 }]);
+            }),
+            7 => get(0).into_iter().for_each(|s| {
+                self.armed
+                    .push(t, [if s == 2.0 || s == 3.0 { 1.0 } else { 0.0 }]);
+            }),
+            _ => {}
         }
     }
-    (!s.t.is_empty()).then_some(s)
-}
-
-/// Keeps every row.
-fn all<const N: usize>(_: usize, v: [f64; N]) -> Option<[f64; N]> {
-    Some(v)
 }
 
 /// ZYX Euler angles `[φ θ ψ]` (rad) of a unit quaternion `[w x y z]`.
@@ -91,58 +134,100 @@ pub fn quaternion_to_euler([w, x, y, z]: [f64; 4]) -> [f64; 3] {
     ]
 }
 
-/// Reads the channels of a ULog file; `file` names it in errors and notes.
-pub fn channels(file: &str, path: &Path) -> Result<(Channels, Vec<String>), ImportError> {
-    let path_str = path.to_str().ok_or_else(|| ImportError::PathNotUtf8 {
-        file: file.to_string(),
-        format: FORMAT,
-    })?;
-    let data = read_file(path_str).map_err(|e| ImportError::Malformed {
-        file: file.to_string(),
-        format: FORMAT,
-        source: Arc::new(e),
-    })?;
-    let mut notes = Vec::new();
-    match &data.completeness {
-        Completeness::Complete => {}
-        Completeness::Truncated => notes.push(format!(
-            "{file}: the log is truncated (cut mid-record); using the data before the cut"
-        )),
-        Completeness::MalformedRecord(r) => notes.push(format!(
-            "{file}: a malformed record ends the data ({r}); using the data before it"
-        )),
+/// An error of the reader as an [`ImportError`] naming `file`.
+pub(super) fn read_error(file: &str, format: &'static str, e: ReadError) -> ImportError {
+    match e {
+        ReadError::Io(e) => ImportError::Read {
+            file: file.to_string(),
+            source: std::sync::Arc::new(e),
+        },
+        ReadError::Malformed { offset, reason } => ImportError::Malformed {
+            file: file.to_string(),
+            format,
+            offset,
+            reason,
+        },
     }
-    // Instance 0 of each topic (the lowest multi id logged).
-    let topic = |name: &str| {
-        data.messages
-            .get(name)
-            .and_then(|m| m.iter().min_by_key(|(id, _)| id.value()).map(|(_, t)| t))
-    };
+}
+
+/// Reads the channels of the ULog `input` (streamed); `file` names it in errors and notes.
+pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>), ImportError> {
+    let err = |e| read_error(file, FORMAT, e);
+    let mut reader = Reader::new(input).map_err(err)?;
+    let mut subs: HashMap<u16, Sub> = HashMap::new();
+    let mut acc = Acc::default();
+    let (mut dropouts, mut dropout_ms, mut first_dropout) = (0u64, 0u64, None);
+    let mut values = Vec::new();
+    while let Some(event) = reader.next_event().map_err(err)? {
+        match event {
+            Event::Subscribed {
+                msg_id,
+                topic,
+                multi_id,
+            } => {
+                subs.remove(&msg_id);
+                let Some(k) = TOPICS.iter().position(|(name, _)| *name == topic) else {
+                    continue;
+                };
+                if multi_id != 0 {
+                    continue;
+                }
+                let time = reader
+                    .locate(msg_id, "timestamp_sample")
+                    .or_else(|| reader.locate(msg_id, "timestamp"));
+                if let Some(time) = time {
+                    let fields = TOPICS[k]
+                        .1
+                        .iter()
+                        .map(|f| reader.locate(msg_id, f))
+                        .collect();
+                    subs.insert(
+                        msg_id,
+                        Sub {
+                            topic: k,
+                            time,
+                            fields,
+                        },
+                    );
+                }
+            }
+            Event::Data { msg_id, data, .. } => {
+                let Some(sub) = subs.get(&msg_id) else {
+                    continue;
+                };
+                let Some(us) = sub.time.read(data) else {
+                    continue;
+                };
+                values.clear();
+                values.extend(sub.fields.iter().map(|f| f.and_then(|f| f.read(data))));
+                acc.push(sub.topic, us / 1e6, &values);
+            }
+            Event::Dropout { offset, ms } => {
+                dropouts += 1;
+                dropout_ms += u64::from(ms);
+                first_dropout.get_or_insert(offset);
+            }
+        }
+    }
+    let mut notes = reader.issues().notes(file);
+    if let Some(at) = first_dropout {
+        notes.push(format!(
+            "{file}: the logger dropped data {dropouts} times ({dropout_ms} ms in all), first at byte {at}"
+        ));
+    }
+    let remark = reader.issues().first();
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
+        remark: remark.clone(),
     };
-    let attitude = series(
-        topic("vehicle_attitude"),
-        ["q[0]", "q[1]", "q[2]", "q[3]"],
-        |_, q| Some(quaternion_to_euler(q)),
-    )
-    .ok_or_else(|| missing("attitude", "`vehicle_attitude` `q[0..4]`"))?;
-    // Velocity only while the estimator flags it valid (older logs have no flags).
-    let local = topic("vehicle_local_position");
-    let flag = |name: &str| local.and_then(|t| t.get(name)).map(as_f64);
-    let flags = [flag("v_xy_valid"), flag("v_z_valid")];
-    let velocity_ned = series(local, ["vx", "vy", "vz"], |k, v| {
-        let valid = flags.iter().all(|f| {
-            f.as_ref()
-                .is_none_or(|f| f.get(k).is_none_or(|x| *x != 0.0))
-        });
-        valid.then_some(v)
-    })
-    .ok_or_else(|| {
-        if series(local, ["vx", "vy", "vz"], all).is_some() {
+    let nonempty = |s: Series<3>| (!s.t.is_empty()).then_some(s);
+    let attitude = nonempty(acc.attitude)
+        .ok_or_else(|| missing("attitude", "`vehicle_attitude` `q[0..4]`"))?;
+    let velocity_ned = nonempty(acc.velocity).ok_or_else(|| {
+        if acc.any_velocity {
             missing(
                 "valid velocity",
                 "`vehicle_local_position` rows with `v_xy_valid` and `v_z_valid` set",
@@ -151,60 +236,37 @@ pub fn channels(file: &str, path: &Path) -> Result<(Channels, Vec<String>), Impo
             missing("velocity", "`vehicle_local_position` `vx vy vz`")
         }
     })?;
-    let rates_frd = series(
-        topic("vehicle_angular_velocity"),
-        ["xyz[0]", "xyz[1]", "xyz[2]"],
-        all,
-    )
-    .or_else(|| {
-        series(
-            topic("vehicle_attitude"),
-            ["rollspeed", "pitchspeed", "yawspeed"],
-            all,
-        )
-    })
-    .ok_or_else(|| {
-        missing(
-            "body rates",
-            "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
-        )
-    })?;
-    let torque = series(
-        topic("vehicle_torque_setpoint"),
-        ["xyz[0]", "xyz[1]", "xyz[2]"],
-        all,
-    );
-    let thrust = series(
-        topic("vehicle_thrust_setpoint"),
-        ["xyz[0]", "xyz[1]", "xyz[2]"],
-        all,
-    );
-    let controls = match (torque, thrust) {
-        (Some(m), Some(f)) => {
-            Some(merge_held(&m, &f, |m, f| [-f[2], m[2], m[1], m[0]])).filter(|s| !s.t.is_empty())
-        }
-        _ => None,
-    }
-    .or_else(|| {
-        series(
-            topic("actuator_controls_0"),
-            ["control[3]", "control[2]", "control[1]", "control[0]"],
-            all,
-        )
-    })
+    let rates_frd = nonempty(acc.angular_velocity)
+        .or_else(|| nonempty(acc.attitude_rates))
+        .ok_or_else(|| {
+            missing(
+                "body rates",
+                "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
+            )
+        })?;
+    let controls = Some(merge_held(&acc.torque, &acc.thrust, |m, f| {
+        [-f[2], m[2], m[1], m[0]]
+    }))
+    .filter(|s| !s.t.is_empty())
+    .or_else(|| Some(acc.actuator_controls).filter(|s| !s.t.is_empty()))
     .ok_or_else(|| {
         missing(
             "helicopter controls",
             "`vehicle_torque_setpoint` + `vehicle_thrust_setpoint`, `actuator_controls_0`",
         )
     })?;
+    let in_air = if acc.landed.t.is_empty() {
+        acc.armed
+    } else {
+        acc.landed
+    };
     Ok((
         Channels {
             attitude,
             velocity_ned,
             rates_frd,
             controls,
-            in_air: Series::default(),
+            in_air,
         },
         notes,
     ))
