@@ -8,8 +8,13 @@
 
 use std::io::{ErrorKind, Read};
 
-/// Buffer size (bytes): the longest record either format can hold (3 + `u16::MAX`), rounded up.
+/// Largest buffer (bytes): the longest record either format can hold (3 + `u16::MAX`),
+/// rounded up.
 pub const CAPACITY: usize = 1 << 17;
+
+/// First buffer size (bytes): the buffer grows to [`CAPACITY`] only when a record needs it,
+/// so that a small input costs a small allocation.
+const INITIAL: usize = 1 << 13;
 
 /// Reads `inner` through a fixed buffer, counting the offset of the next unread byte.
 #[derive(Debug)]
@@ -27,7 +32,7 @@ impl<R: Read> ByteStream<R> {
     pub fn new(inner: R) -> Self {
         Self {
             inner,
-            buf: vec![0; CAPACITY],
+            buf: vec![0; INITIAL],
             start: 0,
             end: 0,
             offset: 0,
@@ -49,6 +54,10 @@ impl<R: Read> ByteStream<R> {
                 self.buf.copy_within(self.start..self.end, 0);
                 self.end -= self.start;
                 self.start = 0;
+            }
+            if n > self.buf.len() {
+                let grown = n.max(2 * self.buf.len()).min(CAPACITY);
+                self.buf.resize(grown, 0);
             }
             while self.end - self.start < n {
                 match self.inner.read(&mut self.buf[self.end..]) {
