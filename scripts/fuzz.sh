@@ -11,7 +11,7 @@ report=1
 [ "${2:-}" = "--no-report" ] && report=0
 rustup toolchain install nightly --profile minimal >/dev/null
 command -v cargo-fuzz >/dev/null 2>&1 || cargo install cargo-fuzz --locked
-targets=(frame_decoder messages csv_log identifier_step parameter_import)
+targets=(frame_decoder messages csv_log identifier_step parameter_import import_then_step c_interface)
 cd host-tests/fuzz
 cargo +nightly fuzz build --release >/dev/null
 rows=""

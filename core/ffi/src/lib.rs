@@ -43,6 +43,10 @@ pub mod export;
 pub mod frames;
 pub mod handle;
 pub mod kinds;
+#[cfg(test)]
+mod promises;
+#[cfg(test)]
+mod sequences;
 pub mod sweep;
 pub mod types;
 
