@@ -227,7 +227,7 @@ where
                 0 => checked(&mut id, fingerprint, "resume", |id| id.resume(&s)),
                 1 => checked(&mut id, fingerprint, "compensate", |id| {
                     id.compensate(&[50.0 * rng.u().abs(), 1.0, 0.0])
-                        .map(|_| s.state())
+                        .map(|_| rotorid::hover::HoverState::default())
                 }),
                 _ => checked(&mut id, fingerprint, "step", |id| {
                     id.step(&s).map(|o| o.prediction)

@@ -115,8 +115,22 @@ fn image(storage: &[u64]) -> Vec<u8> {
     storage.iter().flat_map(|w| w.to_le_bytes()).collect()
 }
 
+/// What a sequence did, counted per operation (0–15, see `run`): calls accepted and refused,
+/// so that a test can see it exercised both.
+#[derive(Default, Debug)]
+pub struct Counts {
+    /// Accepted calls per operation.
+    pub ok: [u32; 16],
+    /// Refused calls per operation.
+    pub refused: [u32; 16],
+    /// Steps accepted after an import of damaged values was accepted.
+    pub steps_after_hostile_import: u32,
+}
+
 /// Runs one sequence (see the module docs); panics when a promise breaks.
-pub fn run(data: &[u8]) {
+pub fn run(data: &[u8]) -> Counts {
+    let mut counts = Counts::default();
+    let mut hostile_import = false;
     let mut d = Bytes(data);
     let kind = 1 + u32::from(d.u8() % 8);
     let size = rotorid_storage_size(kind);
@@ -230,7 +244,8 @@ pub fn run(data: &[u8]) {
                     (0..export_size).map(|_| d.u8()).collect()
                 };
                 // Replace 0 to 3 float words of the payload by hostile values.
-                for _ in 0..d.u8() % 4 {
+                let replaced = d.u8() % 4;
+                for _ in 0..replaced {
                     let words = (export_size - 16) / 4;
                     let at = 12 + 4 * (d.u32() as usize % words.max(1));
                     let old = bytes
@@ -249,6 +264,9 @@ pub fn run(data: &[u8]) {
                 }
                 // SAFETY: valid pointers, `bytes` of `export_size` bytes.
                 let rc = unsafe { rotorid_import(h, bytes.as_ptr(), bytes.len(), &mut err) };
+                if rc == ROTORID_OK {
+                    hostile_import = replaced > 0 || op == 11;
+                }
                 (rc, (false, true))
             }
             12 => {
@@ -303,7 +321,12 @@ pub fn run(data: &[u8]) {
             }
         };
         let (wrote, finite) = wrote;
+        let slot = usize::from(op);
         if rc == ROTORID_OK {
+            counts.ok[slot] += 1;
+            if op <= 6 && hostile_import {
+                counts.steps_after_hostile_import += 1;
+            }
             assert!(damaged.is_none(), "op {op}: a damaged header was accepted");
             assert!(finite, "op {op}: a non-finite number out of ROTORID_OK");
             assert_eq!(
@@ -312,6 +335,7 @@ pub fn run(data: &[u8]) {
                 "op {op}: error written on success"
             );
         } else {
+            counts.refused[slot] += 1;
             assert_eq!(err.code, rc, "op {op}: the detail's code");
             assert!(
                 !wrote,
@@ -326,6 +350,7 @@ pub fn run(data: &[u8]) {
             }
         }
     }
+    counts
 }
 
 #[cfg(test)]
@@ -336,6 +361,7 @@ mod tests {
     #[test]
     fn random_call_sequences_keep_every_promise() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut total = Counts::default();
         for case in 0..if cfg!(debug_assertions) { 150 } else { 1500 } {
             let len = 64 + case % 700;
             let bytes: Vec<u8> = (0..len)
@@ -346,7 +372,23 @@ mod tests {
                     (state >> 24) as u8
                 })
                 .collect();
-            run(&bytes);
+            let c = run(&bytes);
+            for op in 0..16 {
+                total.ok[op] += c.ok[op];
+                total.refused[op] += c.refused[op];
+            }
+            total.steps_after_hostile_import += c.steps_after_hostile_import;
         }
+        // Not vacuous: steps (0–6), imports of the own export (10) and compensations (14) were
+        // both accepted and refused, raw bytes (11) refused, and steps were accepted after
+        // imports of damaged values.
+        for op in [0, 10, 14] {
+            assert!(
+                total.ok[op] > 0 && total.refused[op] > 0,
+                "op {op}: {total:?}"
+            );
+        }
+        assert!(total.refused[11] > 0, "{total:?}");
+        assert!(total.steps_after_hostile_import > 0, "{total:?}");
     }
 }

@@ -8,5 +8,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    rotorid_ffi::sequences::run(data);
+    let _ = rotorid_ffi::sequences::run(data);
 });

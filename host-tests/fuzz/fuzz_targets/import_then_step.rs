@@ -195,7 +195,7 @@ where
             0 => id.resume(&s),
             1 => id
                 .compensate(&[d.field(50.0), d.field(50.0), d.field(50.0)])
-                .map(|_| s.state()),
+                .map(|_| rotorid::hover::HoverState::default()),
             _ => id.step(&s).map(|o| o.prediction),
         };
         match result {
