@@ -18,7 +18,8 @@ report=1
 [ "${2:-}" = "--no-report" ] && report=0
 rustup toolchain install nightly --profile minimal >/dev/null
 command -v cargo-fuzz >/dev/null 2>&1 || cargo install cargo-fuzz --locked
-all=(frame_decoder messages csv_log identifier_step parameter_import ulog_log dataflash_log)
+all=(frame_decoder messages csv_log identifier_step parameter_import import_then_step c_interface
+     ulog_log dataflash_log)
 read -r -a targets <<<"${FUZZ_TARGETS:-${all[*]}}"
 results="$PWD/docs/fuzzing.tsv"
 cd host-tests/fuzz
@@ -91,6 +92,11 @@ properties, not only the absence of panics:
   prediction.
 * \`parameter_import\`: arbitrary exported states into \`import\`; a refused one changes nothing,
   an accepted one keeps the predictions finite.
+* \`import_then_step\`: hostile exported states into \`import\`, then steps, resumes and
+  compensations: every refused call leaves every bit of the identifier as it was.
+* \`c_interface\`: random call sequences on the C interface (every kind's init, step, resume,
+  export, import of hostile bytes) with random damage to the handle's storage between calls:
+  no crash, and every refused call changes no byte of the storage.
 * \`ulog_log\`: arbitrary bytes into the ULog reader and importer (inputs up to 8 KiB); on
   success every channel's time stamps are finite and increasing.
 * \`dataflash_log\`: arbitrary bytes into the format detection and the DataFlash and PX4

@@ -220,7 +220,7 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
         const float bad[3] = {0.3f, nan, 0.3f};
         const float sigma[3] = {0.3f, 0.3f, 0.3f};
         rc = rotorid_compensate(id, bad, &compensated, &err);
-        CHECK(rc == ROTORID_E_NON_FINITE, "NaN gyro noise refused", rc);
+        CHECK(rc == ROTORID_E_CONFIG_GYRO_NOISE, "NaN gyro noise refused", rc);
         rc = rotorid_compensate(id, sigma, &compensated, &err);
         CHECK(rc == ROTORID_OK, "compensate", rc);
         sample_at(FLIGHT_LEN - 1, &last);
@@ -300,13 +300,17 @@ static int drive_interface_errors(drive_emit_t emit) {
     c.forgetting = 1.0f;
     c.algorithm = 9;
     rc = rotorid_init(storage, sizeof storage, ROTORID_KIND_FLIGHT, &c, NULL, &id, &err);
-    CHECK(rc == ROTORID_E_OUT_OF_RANGE && err.quantity == ROTORID_QUANTITY_CONFIG,
-          "unknown algorithm", rc);
+    CHECK(rc == ROTORID_E_CONFIG_ALGORITHM, "unknown algorithm", rc);
     rc = rotorid_init(storage, sizeof storage, ROTORID_KIND_FLIGHT, NULL, NULL, &id, &err);
     CHECK(rc == ROTORID_OK, "init", rc);
     rc = rotorid_info(id, &kind, &c, &err);
     CHECK(rc == ROTORID_OK && kind == ROTORID_KIND_FLIGHT && c.sample_period_us == 20000u,
           "info", rc);
+    /* A damaged header (here one bit of the kind word) is refused, not followed. */
+    ((uint8_t *)storage)[4] ^= 2u;
+    rc = rotorid_info(id, &kind, &c, &err);
+    CHECK(rc == ROTORID_E_NOT_INITIALISED, "damaged header", rc);
+    ((uint8_t *)storage)[4] ^= 2u;
     rc = rotorid_step(id, &s, NULL, &err);
     CHECK(rc == ROTORID_E_NULL, "NULL output", rc);
     s.time_us += 1;

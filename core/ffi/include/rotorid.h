@@ -112,6 +112,21 @@
 #define ROTORID_E_CONFIG_OBSERVER_GAIN 20
 
 /**
+ * `rotorid_config_t.algorithm` is not a `ROTORID_ALGORITHM_*`.
+ */
+#define ROTORID_E_CONFIG_ALGORITHM 21
+
+/**
+ * `rotorid_config_t.scaling` is not a `ROTORID_SCALING_*`.
+ */
+#define ROTORID_E_CONFIG_SCALING 22
+
+/**
+ * A gyro noise σ given to `rotorid_compensate` is not finite, or not in [0, 2000] deg/s.
+ */
+#define ROTORID_E_CONFIG_GYRO_NOISE 23
+
+/**
  * An error the core added after this library (update the library).
  */
 #define ROTORID_E_UNKNOWN 99
@@ -232,9 +247,19 @@
 #define ROTORID_EXPORT_HEADER_SIZE 12
 
 /**
- * Version of the export format.
+ * Length of the export trailer: the CRC-32 of everything before it.
  */
-#define ROTORID_EXPORT_VERSION 1
+#define ROTORID_EXPORT_TRAILER_SIZE 4
+
+/**
+ * Version of the export format (2: with the CRC-32 trailer; version 1 had none).
+ */
+#define ROTORID_EXPORT_VERSION 2
+
+/**
+ * Version of the storage layout (header and identifiers); raised whenever either changes.
+ */
+#define ROTORID_LAYOUT_VERSION 2
 
 /**
  * The flight default: three forward-speed rules per model, local learning, the extended
@@ -325,42 +350,42 @@
 /**
  * Export bytes of `ROTORID_KIND_FLIGHT`.
  */
-#define ROTORID_FLIGHT_EXPORT_SIZE 1896
+#define ROTORID_FLIGHT_EXPORT_SIZE 1900
 
 /**
  * Export bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
  */
-#define ROTORID_FLIGHT_PLAIN_EXPORT_SIZE 640
+#define ROTORID_FLIGHT_PLAIN_EXPORT_SIZE 644
 
 /**
  * Export bytes of `ROTORID_KIND_PAPER_FUZZY`.
  */
-#define ROTORID_PAPER_FUZZY_EXPORT_SIZE 10520
+#define ROTORID_PAPER_FUZZY_EXPORT_SIZE 10524
 
 /**
  * Export bytes of `ROTORID_KIND_PAPER_PLAIN`.
  */
-#define ROTORID_PAPER_PLAIN_EXPORT_SIZE 124
+#define ROTORID_PAPER_PLAIN_EXPORT_SIZE 128
 
 /**
  * Export bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
  */
-#define ROTORID_EXTENDED_FUZZY_EXPORT_SIZE 26432
+#define ROTORID_EXTENDED_FUZZY_EXPORT_SIZE 26436
 
 /**
  * Export bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
  */
-#define ROTORID_EXTENDED_PLAIN_EXPORT_SIZE 424
+#define ROTORID_EXTENDED_PLAIN_EXPORT_SIZE 428
 
 /**
  * Export bytes of `ROTORID_KIND_PAPER_LOCAL`.
  */
-#define ROTORID_PAPER_LOCAL_EXPORT_SIZE 1776
+#define ROTORID_PAPER_LOCAL_EXPORT_SIZE 1780
 
 /**
  * Export bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
  */
-#define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3624
+#define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3628
 
 /**
  * Channel: main-rotor collective `u_col`.
@@ -675,11 +700,21 @@ void rust_eh_personality(void);
 
 /**
  * Takes sample k+1: learns every model from sample k to it and predicts sample k+2
- * (`rotorid::HoverIdentifier::step`). A rejected sample changes nothing; after a
- * TIME_STEP error (a gap), call `rotorid_resume`.
+ * (`rotorid::HoverIdentifier::step`).
+ *
+ * Required: `h`, `sample`, `out`. Optional: `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a sample field,
+ * or a target/innovation beyond the estimator's limits), TIME_STEP, NON_MONOTONIC_TIME,
+ * NUMERICAL (a guard: no accepted state reaches it).
+ * On success: `*out` and the identifier. On an error: only `*error` (when given); the
+ * identifier and `*out` are unchanged, whatever an import brought in. After TIME_STEP
+ * (a gap or jitter beyond the tolerance) call `rotorid_resume` with the same sample: it
+ * restarts the chain there; dropping the sample instead leaves the chain at the last
+ * accepted one, and every later step fails the same way.
  *
  * # Safety
- * `h` comes from `rotorid_init` (or is NULL); `sample`, `out`, `error` are NULL or valid.
+ * `h` is NULL or a handle from `rotorid_init*`; `sample` is NULL or valid for reads; `out`
+ * and `error` are NULL or valid for writes.
  */
 int32_t rotorid_step(rotorid_ident_t *h,
                      const rotorid_sample_t *sample,
@@ -692,8 +727,13 @@ int32_t rotorid_step(rotorid_ident_t *h,
  * estimate in a simulation), read only by the flight structures' second-order rate terms and
  * horizontal drag; NULL at the start of a chain.
  *
+ * Required: `h`, `sample`, `out`. Optional: `before`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a field of
+ * `sample` or `before`), NUMERICAL (a guard). On success: `*out`. On an error: only
+ * `*error`. Never changes the identifier.
+ *
  * # Safety
- * As `rotorid_step`; `before` is NULL or valid.
+ * As `rotorid_step`; `before` is NULL or valid for reads.
  */
 int32_t rotorid_predict(const rotorid_ident_t *h,
                         const rotorid_state_t *before,
@@ -705,6 +745,11 @@ int32_t rotorid_predict(const rotorid_ident_t *h,
  * Starts a new sample chain at `sample` without learning (after a gap or a time jump) and
  * writes the prediction from it to `out`.
  *
+ * Required: `h`, `sample`, `out`. Optional: `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a sample field),
+ * NUMERICAL (a guard). On success: `*out` and the identifier's chain. On an error: only
+ * `*error`; the identifier and `*out` are unchanged.
+ *
  * # Safety
  * As `rotorid_step`.
  */
@@ -715,6 +760,9 @@ int32_t rotorid_resume(rotorid_ident_t *h,
 
 /**
  * Forgets everything learnt: θ = 0, P = αI, no previous sample.
+ *
+ * Required: `h`. Optional: `error`. Codes: OK; NULL, MISALIGNED, NOT_INITIALISED (then
+ * nothing is written but `*error`).
  *
  * # Safety
  * As `rotorid_step`.
@@ -728,13 +776,17 @@ int32_t rotorid_reset(rotorid_ident_t *h, rotorid_error_t *error);
  * imported from this one's export and keep learning on this one. Only the flight kinds' rate
  * models are compensated.
  * `gyro_noise`: 3 floats, σ of q, r, p (deg/s; finite, ≥ 0, ≤ 2000; 0 compensates nothing).
- * `compensated`: NULL (not wanted) or receives how many rules were compensated (a rule that
- * saw fewer samples than it has parameters, or whose rate hardly moved, keeps its
- * parameters). On error nothing changed.
+ * `compensated`: receives how many rules were compensated (a rule that saw fewer samples
+ * than it has parameters, or whose rate hardly moved, keeps its parameters).
+ *
+ * Required: `h`, `gyro_noise`. Optional: `compensated`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; CONFIG_GYRO_NOISE. On success: the
+ * identifier's rate parameters and `*compensated`. On an error: only `*error`; the
+ * identifier and `*compensated` are unchanged.
  *
  * # Safety
  * As `rotorid_step`; `gyro_noise` is NULL or points to 3 floats; `compensated` is NULL or
- * valid.
+ * valid for writes.
  */
 int32_t rotorid_compensate(rotorid_ident_t *h,
                            const float *gyro_noise,
@@ -744,8 +796,12 @@ int32_t rotorid_compensate(rotorid_ident_t *h,
 /**
  * The settings of an identifier (as given to `rotorid_init`) and its kind.
  *
+ * Required: `h`. Optional: `kind`, `config`, `error` (NULL: not wanted).
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED. On success: `*kind`, `*config` (those
+ * given). On an error: only `*error`.
+ *
  * # Safety
- * As `rotorid_step`; `kind` and `config` are NULL (not wanted) or valid.
+ * As `rotorid_step`; `kind` and `config` are NULL or valid for writes.
  */
 int32_t rotorid_info(const rotorid_ident_t *h,
                      uint32_t *kind,
@@ -754,12 +810,17 @@ int32_t rotorid_info(const rotorid_ident_t *h,
 
 /**
  * Writes everything the identifier has learnt into `buffer` (`capacity` bytes, at least
- * `ROTORID_<KIND>_EXPORT_SIZE`; format in the crate docs of `rotorid-ffi`, module `export`)
- * and its length to `*length`.
+ * `ROTORID_<KIND>_EXPORT_SIZE`; the format, with its version and CRC-32, in
+ * `docs/c-interface.md`) and its length to `*length`.
+ *
+ * Required: `h`, `buffer`, `length`. Optional: `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED, BUFFER_SIZE. On success: the first
+ * `*length` bytes of `buffer` and `*length`. On an error: only `*error`; `buffer` and
+ * `*length` are not written. Never changes the identifier.
  *
  * # Safety
  * As `rotorid_step`; `buffer` is NULL or valid for writes of `capacity` bytes; `length`
- * is NULL or valid.
+ * is NULL or valid for writes.
  */
 int32_t rotorid_export(const rotorid_ident_t *h,
                        uint8_t *buffer,
@@ -769,8 +830,15 @@ int32_t rotorid_export(const rotorid_ident_t *h,
 
 /**
  * Warm start from an export of the same kind (`length` bytes at `buffer`). Everything is
- * checked before anything is written: on an error nothing changed. The sample chain
- * restarts (the next step only anchors).
+ * checked before anything is written: the length, the CRC-32, the header (magic, version,
+ * kind) and every value (θ and every covariance or U-D factor entry bounded and finite).
+ * The sample chain restarts (the next step only anchors).
+ *
+ * Required: `h`, `buffer`. Optional: `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; INCOMPATIBLE (length, CRC, header, or the
+ * algorithm of an estimator), NON_FINITE, OUT_OF_RANGE (a value: quantity PARAMETER or
+ * COVARIANCE, index its position). On success: the identifier. On an error: only
+ * `*error`; the identifier is unchanged.
  *
  * # Safety
  * As `rotorid_step`; `buffer` is NULL or valid for reads of `length` bytes.
@@ -808,21 +876,35 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  * Prepares an identifier of `kind` (`ROTORID_KIND_*`) in `storage` and writes its handle to
  * `*handle`. This call links the code of every kind; `rotorid_init_<kind>` links one.
  *
- * `storage`: at least `rotorid_storage_size(kind)` bytes (`storage_size`), aligned to
- * `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives; calling an init
- * again on it starts afresh. `config`: the settings (NULL: `rotorid_config_default`).
- * `sets`: the forward-speed sets of `ROTORID_KIND_FLIGHT` (NULL: the defaults); must be NULL
- * for the other kinds. On an error the storage is not written.
+ * Required: `storage` (at least `rotorid_storage_size(kind)` bytes, given in `storage_size`,
+ * aligned to `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives;
+ * calling an init again on it starts afresh), `handle`. Optional (NULL allowed): `config`
+ * (NULL: `rotorid_config_default`), `sets` (the forward-speed sets of `ROTORID_KIND_FLIGHT`;
+ * NULL: the defaults; must be NULL for every other kind), `error` (NULL: no detail).
  *
- * The identifier is built in place. Stack, measured by the C firmware test over init, steps,
- * export and import (`docs/c-interface.md`): 4.3 KiB for `ROTORID_KIND_FLIGHT`, 13 KiB for
- * `ROTORID_KIND_PAPER_FUZZY`.
+ * Codes: OK; NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT; CONFIG_ALGORITHM,
+ * CONFIG_SCALING, CONFIG_INITIAL_COVARIANCE, CONFIG_FORGETTING, CONFIG_SAMPLE_PERIOD,
+ * CONFIG_MEMBERSHIP (sets). On success: the storage and `*handle` are written. On an error:
+ * only `*error` (when given); the storage and `*handle` are not written.
  *
- * Errors: NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT, and the core's CONFIG_* codes.
+ * The identifier is built in place; the storage holds no address (it may be moved, not
+ * saved across builds: see `docs/c-interface.md`). Stack and flash per kind: the size table
+ * of `docs/c-interface.md`, measured by `core/ffi/tests/c_interface.rs`:
+ *
+ * | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
+ * |---|---|---|---|---|
+ * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 748 | 54 754 |
+ * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 52 914 |
+ * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 508 | 54 690 |
+ * | `ROTORID_KIND_PAPER_PLAIN` | 888 | 128 | 2 584 | 45 322 |
+ * | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
+ * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 096 | 49 122 |
+ * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 820 | 54 570 |
+ * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 636 | 58 122 |
  *
  * # Safety
- * `storage` is NULL or valid for writes of `storage_size` bytes; `config`, `sets`, `handle`
- * and `error` are NULL or valid.
+ * `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
+ * NULL or valid for reads; `handle` and `error` are NULL or valid for writes.
  */
 int32_t rotorid_init(void *storage,
                      size_t storage_size,
@@ -835,7 +917,8 @@ int32_t rotorid_init(void *storage,
 /**
  * `rotorid_init` for `ROTORID_KIND_FLIGHT`, linking that kind only. `sets`: NULL for the
  * defaults (`rotorid_flight_sets_default`). Every `rotorid_init_<kind>` takes the same
- * arguments; `sets` must be NULL for the kinds without premise sets of their own.
+ * arguments, pointers and codes as `rotorid_init` (but KIND); `sets` must be NULL for the
+ * kinds without premise sets of their own.
  *
  * # Safety
  * As `rotorid_init`.

@@ -1,17 +1,27 @@
 //! The calls on a prepared identifier: step, predict, resume, reset, info, export, import.
 
-use rotorid::{HoverSample, HoverState};
+use rotorid::{Error, HoverSample, HoverState, Quantity};
 
 use crate::error::*;
 use crate::handle::{get, ident, ident_mut, kind_of, put, rotorid_ident_t};
 use crate::types::*;
 
 /// Takes sample k+1: learns every model from sample k to it and predicts sample k+2
-/// (`rotorid::HoverIdentifier::step`). A rejected sample changes nothing; after a
-/// TIME_STEP error (a gap), call `rotorid_resume`.
+/// (`rotorid::HoverIdentifier::step`).
+///
+/// Required: `h`, `sample`, `out`. Optional: `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a sample field,
+/// or a target/innovation beyond the estimator's limits), TIME_STEP, NON_MONOTONIC_TIME,
+/// NUMERICAL (a guard: no accepted state reaches it).
+/// On success: `*out` and the identifier. On an error: only `*error` (when given); the
+/// identifier and `*out` are unchanged, whatever an import brought in. After TIME_STEP
+/// (a gap or jitter beyond the tolerance) call `rotorid_resume` with the same sample: it
+/// restarts the chain there; dropping the sample instead leaves the chain at the last
+/// accepted one, and every later step fails the same way.
 ///
 /// # Safety
-/// `h` comes from `rotorid_init` (or is NULL); `sample`, `out`, `error` are NULL or valid.
+/// `h` is NULL or a handle from `rotorid_init*`; `sample` is NULL or valid for reads; `out`
+/// and `error` are NULL or valid for writes.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_step(
     h: *mut rotorid_ident_t,
@@ -38,8 +48,13 @@ pub unsafe extern "C" fn rotorid_step(
 /// estimate in a simulation), read only by the flight structures' second-order rate terms and
 /// horizontal drag; NULL at the start of a chain.
 ///
+/// Required: `h`, `sample`, `out`. Optional: `before`, `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a field of
+/// `sample` or `before`), NUMERICAL (a guard). On success: `*out`. On an error: only
+/// `*error`. Never changes the identifier.
+///
 /// # Safety
-/// As `rotorid_step`; `before` is NULL or valid.
+/// As `rotorid_step`; `before` is NULL or valid for reads.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_predict(
     h: *const rotorid_ident_t,
@@ -66,6 +81,11 @@ pub unsafe extern "C" fn rotorid_predict(
 /// Starts a new sample chain at `sample` without learning (after a gap or a time jump) and
 /// writes the prediction from it to `out`.
 ///
+/// Required: `h`, `sample`, `out`. Optional: `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NON_FINITE, OUT_OF_RANGE (a sample field),
+/// NUMERICAL (a guard). On success: `*out` and the identifier's chain. On an error: only
+/// `*error`; the identifier and `*out` are unchanged.
+///
 /// # Safety
 /// As `rotorid_step`.
 #[no_mangle]
@@ -91,6 +111,9 @@ pub unsafe extern "C" fn rotorid_resume(
 
 /// Forgets everything learnt: θ = 0, P = αI, no previous sample.
 ///
+/// Required: `h`. Optional: `error`. Codes: OK; NULL, MISALIGNED, NOT_INITIALISED (then
+/// nothing is written but `*error`).
+///
 /// # Safety
 /// As `rotorid_step`.
 #[no_mangle]
@@ -111,13 +134,17 @@ pub unsafe extern "C" fn rotorid_reset(
 /// imported from this one's export and keep learning on this one. Only the flight kinds' rate
 /// models are compensated.
 /// `gyro_noise`: 3 floats, σ of q, r, p (deg/s; finite, ≥ 0, ≤ 2000; 0 compensates nothing).
-/// `compensated`: NULL (not wanted) or receives how many rules were compensated (a rule that
-/// saw fewer samples than it has parameters, or whose rate hardly moved, keeps its
-/// parameters). On error nothing changed.
+/// `compensated`: receives how many rules were compensated (a rule that saw fewer samples
+/// than it has parameters, or whose rate hardly moved, keeps its parameters).
+///
+/// Required: `h`, `gyro_noise`. Optional: `compensated`, `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; CONFIG_GYRO_NOISE. On success: the
+/// identifier's rate parameters and `*compensated`. On an error: only `*error`; the
+/// identifier and `*compensated` are unchanged.
 ///
 /// # Safety
 /// As `rotorid_step`; `gyro_noise` is NULL or points to 3 floats; `compensated` is NULL or
-/// valid.
+/// valid for writes.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_compensate(
     h: *mut rotorid_ident_t,
@@ -129,7 +156,13 @@ pub unsafe extern "C" fn rotorid_compensate(
     unsafe {
         let result = (|| {
             let sigma = get(gyro_noise.cast::<[f32; 3]>())?;
-            let outcome = ident_mut(h)?.compensate(&sigma)?;
+            let outcome = ident_mut(h)?.compensate(&sigma).map_err(|e| match e {
+                // The core names σ a configuration value; here it has its own code.
+                Error::NonFinite(Quantity::Config) | Error::OutOfRange(Quantity::Config) => {
+                    rotorid_error_t::interface(ROTORID_E_CONFIG_GYRO_NOISE)
+                }
+                e => e.into(),
+            })?;
             if !compensated.is_null() {
                 put(compensated, u32::from(outcome.compensated))?;
             }
@@ -141,8 +174,12 @@ pub unsafe extern "C" fn rotorid_compensate(
 
 /// The settings of an identifier (as given to `rotorid_init`) and its kind.
 ///
+/// Required: `h`. Optional: `kind`, `config`, `error` (NULL: not wanted).
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED. On success: `*kind`, `*config` (those
+/// given). On an error: only `*error`.
+///
 /// # Safety
-/// As `rotorid_step`; `kind` and `config` are NULL (not wanted) or valid.
+/// As `rotorid_step`; `kind` and `config` are NULL or valid for writes.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_info(
     h: *const rotorid_ident_t,
@@ -168,12 +205,17 @@ pub unsafe extern "C" fn rotorid_info(
 }
 
 /// Writes everything the identifier has learnt into `buffer` (`capacity` bytes, at least
-/// `ROTORID_<KIND>_EXPORT_SIZE`; format in the crate docs of `rotorid-ffi`, module `export`)
-/// and its length to `*length`.
+/// `ROTORID_<KIND>_EXPORT_SIZE`; the format, with its version and CRC-32, in
+/// `docs/c-interface.md`) and its length to `*length`.
+///
+/// Required: `h`, `buffer`, `length`. Optional: `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED, BUFFER_SIZE. On success: the first
+/// `*length` bytes of `buffer` and `*length`. On an error: only `*error`; `buffer` and
+/// `*length` are not written. Never changes the identifier.
 ///
 /// # Safety
 /// As `rotorid_step`; `buffer` is NULL or valid for writes of `capacity` bytes; `length`
-/// is NULL or valid.
+/// is NULL or valid for writes.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_export(
     h: *const rotorid_ident_t,
@@ -201,8 +243,15 @@ pub unsafe extern "C" fn rotorid_export(
 }
 
 /// Warm start from an export of the same kind (`length` bytes at `buffer`). Everything is
-/// checked before anything is written: on an error nothing changed. The sample chain
-/// restarts (the next step only anchors).
+/// checked before anything is written: the length, the CRC-32, the header (magic, version,
+/// kind) and every value (θ and every covariance or U-D factor entry bounded and finite).
+/// The sample chain restarts (the next step only anchors).
+///
+/// Required: `h`, `buffer`. Optional: `error`.
+/// Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; INCOMPATIBLE (length, CRC, header, or the
+/// algorithm of an estimator), NON_FINITE, OUT_OF_RANGE (a value: quantity PARAMETER or
+/// COVARIANCE, index its position). On success: the identifier. On an error: only
+/// `*error`; the identifier is unchanged.
 ///
 /// # Safety
 /// As `rotorid_step`; `buffer` is NULL or valid for reads of `length` bytes.

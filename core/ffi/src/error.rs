@@ -51,6 +51,12 @@ pub const ROTORID_E_CONFIG_UNKNOWN: i32 = 19;
 /// An observer gain is not finite and in [0, 1] (`index`: its state, or the candidate's
 /// number; `rotorid::hover::Observer`, which this library does not wrap yet).
 pub const ROTORID_E_CONFIG_OBSERVER_GAIN: i32 = 20;
+/// `rotorid_config_t.algorithm` is not a `ROTORID_ALGORITHM_*`.
+pub const ROTORID_E_CONFIG_ALGORITHM: i32 = 21;
+/// `rotorid_config_t.scaling` is not a `ROTORID_SCALING_*`.
+pub const ROTORID_E_CONFIG_SCALING: i32 = 22;
+/// A gyro noise σ given to `rotorid_compensate` is not finite, or not in [0, 2000] deg/s.
+pub const ROTORID_E_CONFIG_GYRO_NOISE: i32 = 23;
 /// An error the core added after this library (update the library).
 pub const ROTORID_E_UNKNOWN: i32 = 99;
 
@@ -264,6 +270,9 @@ pub extern "C" fn rotorid_error_name(code: i32) -> *const core::ffi::c_char {
         ROTORID_E_CONFIG_SCALE => c"ROTORID_E_CONFIG_SCALE",
         ROTORID_E_CONFIG_UNKNOWN => c"ROTORID_E_CONFIG_UNKNOWN",
         ROTORID_E_CONFIG_OBSERVER_GAIN => c"ROTORID_E_CONFIG_OBSERVER_GAIN",
+        ROTORID_E_CONFIG_ALGORITHM => c"ROTORID_E_CONFIG_ALGORITHM",
+        ROTORID_E_CONFIG_SCALING => c"ROTORID_E_CONFIG_SCALING",
+        ROTORID_E_CONFIG_GYRO_NOISE => c"ROTORID_E_CONFIG_GYRO_NOISE",
         ROTORID_E_UNKNOWN => c"ROTORID_E_UNKNOWN",
         ROTORID_E_NULL => c"ROTORID_E_NULL",
         ROTORID_E_MISALIGNED => c"ROTORID_E_MISALIGNED",
@@ -338,7 +347,7 @@ mod tests {
     fn every_code_has_a_name() {
         for code in [-7, -6, -5, -4, -3, -2, -1, 0, 1, 2, 3, 4, 5, 6, 99]
             .into_iter()
-            .chain(10..=20)
+            .chain(10..=23)
         {
             // SAFETY: the function returns a pointer to a static C string.
             let name = unsafe { core::ffi::CStr::from_ptr(rotorid_error_name(code)) };

@@ -1,13 +1,30 @@
 //! Identifiers in caller-provided storage: the layout, the `rotorid_init*` calls that prepare
 //! it, and the checked way back from a handle to the identifier.
 //!
-//! Storage layout: a header (tag word, kind code, and the function that views the rest as the
-//! kind's identifier), then the core's `HoverIdentifier`, as one `repr(C)` struct. The handle
-//! the caller gets back is the storage's address. Because each kind's init stores its own view
-//! function, every later call reaches the identifier without a match over all kinds: a
-//! firmware that calls only `rotorid_init_flight` links the flight identifier's code only.
+//! Storage layout: a 16-byte header, then the core's `HoverIdentifier`, as one `repr(C)`
+//! struct. The handle the caller gets back is the storage's address.
+//!
+//! The header holds no address, only words that every call checks before it trusts anything
+//! else: a magic word, the kind code, the layout version and a check word (the CRC-32 of the
+//! other three and of the kind's storage size). The check word of each kind is a constant
+//! ([`CHECKS`], computed at compile time), so the check costs four comparisons; a damaged
+//! header (any single bit, and all but a 2⁻³² share of other damage) returns
+//! `ROTORID_E_NOT_INITIALISED`, never a call into a wrong identifier.
+//!
+//! Dispatch is by the checked kind, through a table in the library's own memory ([`VIEWS`])
+//! that each kind's init fills with that kind's view function: a firmware that calls only
+//! `rotorid_init_flight` still links the flight identifier's code only, and a kind whose init
+//! never ran in this program is refused (`NOT_INITIALISED`) even with an intact header.
+//!
+//! Because the storage holds no address (neither into itself nor into code), a prepared
+//! storage may be moved (copied to another suitably aligned place, the old copy no longer
+//! used) and keeps working at its new address. It must not be saved and reloaded by another
+//! build of the library: the identifier's layout is the compiler's, and only the layout
+//! version (not the build) is checked. Warm starts across builds or flights go through
+//! `rotorid_export` / `rotorid_import`.
 
 use core::mem::size_of;
+use core::sync::atomic::{AtomicPtr, Ordering};
 
 use rotorid::HoverConfig;
 
@@ -20,19 +37,66 @@ pub struct rotorid_ident_t {
     _private: [u8; 0],
 }
 
-/// Written by `rotorid_init*` at the start of the storage: "RDI1".
-const TAG: u32 = u32::from_le_bytes(*b"RDI1");
+/// Written by `rotorid_init*` at the start of the storage: "RDI2" (2: the header without a
+/// function pointer).
+const MAGIC: u32 = u32::from_le_bytes(*b"RDI2");
+
+/// Version of the storage layout (header and identifiers); raised whenever either changes.
+pub const ROTORID_LAYOUT_VERSION: u32 = 2;
 
 /// The start of every prepared storage. Aligned to 8 so that the identifier starts at the
-/// same offset (16) on every target, whatever its own alignment and the size of a function
-/// pointer: the storage sizes of `kinds` are then the same on the host and the MCU.
+/// same offset (16) on every target, whatever its own alignment: the storage sizes of `kinds`
+/// are then the same on the host and the MCU.
 #[repr(C, align(8))]
+#[derive(Copy, Clone, PartialEq, Eq)]
 pub(crate) struct Header {
-    tag: u32,
+    magic: u32,
     kind: u32,
-    /// The identifier behind this header, as a trait object.
-    view: unsafe fn(*mut Header) -> *mut dyn Ident,
+    layout: u32,
+    /// [`check_word`] of the three words above.
+    check: u32,
 }
+
+/// The header checksum: CRC-32 (IEEE, as `crate::crc32`) over magic, kind, layout version
+/// and the kind's storage size, all little-endian. A single flipped bit anywhere in the
+/// header changes either a checked constant or this word's relation to them.
+const fn check_word(kind: u32, storage_size: usize) -> u32 {
+    let [m0, m1, m2, m3] = MAGIC.to_le_bytes();
+    let [k0, k1, k2, k3] = kind.to_le_bytes();
+    let [l0, l1, l2, l3] = ROTORID_LAYOUT_VERSION.to_le_bytes();
+    let [s0, s1, s2, s3] = (storage_size as u32).to_le_bytes();
+    crate::export::CRC32.checksum(&[
+        m0, m1, m2, m3, k0, k1, k2, k3, l0, l1, l2, l3, s0, s1, s2, s3,
+    ])
+}
+
+/// Kinds are 1..=`KINDS`.
+const KINDS: usize = 8;
+
+/// The check word of each kind code (index 0 unused), computed at compile time (an index out
+/// of range would fail the build, not a call).
+#[allow(clippy::indexing_slicing)]
+const CHECKS: [u32; KINDS + 1] = {
+    let mut c = [0u32; KINDS + 1];
+    let mut k = 1;
+    while k <= KINDS {
+        c[k] = check_word(k as u32, storage_size_of(k as u32));
+        k += 1;
+    }
+    c
+};
+
+/// The storage size of a kind code, as a constant expression (0 for an unknown code).
+const fn storage_size_of(kind: u32) -> usize {
+    for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
+}
+
+/// The view function of each kind, filled by that kind's init (null until then).
+static VIEWS: [AtomicPtr<()>; KINDS + 1] =
+    [const { AtomicPtr::new(core::ptr::null_mut()) }; KINDS + 1];
+
+/// What each kind stores in [`VIEWS`].
+type ViewFn = unsafe fn(*mut Header) -> *mut dyn Ident;
 
 /// What the storage holds.
 #[repr(C)]
@@ -48,6 +112,25 @@ pub(crate) struct Slot<I> {
 unsafe fn view<I: Ident + 'static>(h: *mut Header) -> *mut dyn Ident {
     // SAFETY: the caller's contract.
     unsafe { core::ptr::addr_of_mut!((*h.cast::<Slot<I>>()).ident) }
+}
+
+/// Records kind `kind`'s view function (idempotent: the same function every time).
+fn register<I: Ident + 'static>(kind: u32) {
+    let f: ViewFn = view::<I>;
+    if let Some(slot) = VIEWS.get(kind as usize) {
+        slot.store(f as *mut (), Ordering::Release);
+    }
+}
+
+/// The view function registered for `kind`, if its init ran.
+fn registered(kind: u32) -> Option<ViewFn> {
+    let p = VIEWS.get(kind as usize)?.load(Ordering::Acquire);
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: the only non-null values stored in VIEWS are `ViewFn`s (`register`), and a
+    // function pointer round-trips through a data pointer on every target Rust supports.
+    Some(unsafe { core::mem::transmute::<*mut (), ViewFn>(p) })
 }
 
 /// Reads `*p`, or reports `ROTORID_E_NULL`.
@@ -122,33 +205,50 @@ unsafe fn init<I: Build + Ident + 'static>(
             core::ptr::addr_of_mut!((*slot).ident),
         )?;
         core::ptr::addr_of_mut!((*slot).header).write(Header {
-            tag: TAG,
+            magic: MAGIC,
             kind,
-            view: view::<I>,
+            layout: ROTORID_LAYOUT_VERSION,
+            // The compile-time constant (a CRC at run time would bring its table along).
+            check: CHECKS.get(kind as usize).copied().unwrap_or(0),
         });
         handle.write(storage.cast());
     }
+    register::<I>(kind);
     Ok(())
 }
 
 /// Prepares an identifier of `kind` (`ROTORID_KIND_*`) in `storage` and writes its handle to
 /// `*handle`. This call links the code of every kind; `rotorid_init_<kind>` links one.
 ///
-/// `storage`: at least `rotorid_storage_size(kind)` bytes (`storage_size`), aligned to
-/// `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives; calling an init
-/// again on it starts afresh. `config`: the settings (NULL: `rotorid_config_default`).
-/// `sets`: the forward-speed sets of `ROTORID_KIND_FLIGHT` (NULL: the defaults); must be NULL
-/// for the other kinds. On an error the storage is not written.
+/// Required: `storage` (at least `rotorid_storage_size(kind)` bytes, given in `storage_size`,
+/// aligned to `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives;
+/// calling an init again on it starts afresh), `handle`. Optional (NULL allowed): `config`
+/// (NULL: `rotorid_config_default`), `sets` (the forward-speed sets of `ROTORID_KIND_FLIGHT`;
+/// NULL: the defaults; must be NULL for every other kind), `error` (NULL: no detail).
 ///
-/// The identifier is built in place. Stack, measured by the C firmware test over init, steps,
-/// export and import (`docs/c-interface.md`): 4.3 KiB for `ROTORID_KIND_FLIGHT`, 13 KiB for
-/// `ROTORID_KIND_PAPER_FUZZY`.
+/// Codes: OK; NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT; CONFIG_ALGORITHM,
+/// CONFIG_SCALING, CONFIG_INITIAL_COVARIANCE, CONFIG_FORGETTING, CONFIG_SAMPLE_PERIOD,
+/// CONFIG_MEMBERSHIP (sets). On success: the storage and `*handle` are written. On an error:
+/// only `*error` (when given); the storage and `*handle` are not written.
 ///
-/// Errors: NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT, and the core's CONFIG_* codes.
+/// The identifier is built in place; the storage holds no address (it may be moved, not
+/// saved across builds: see `docs/c-interface.md`). Stack and flash per kind: the size table
+/// of `docs/c-interface.md`, measured by `core/ffi/tests/c_interface.rs`:
+///
+/// | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
+/// |---|---|---|---|---|
+/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 748 | 54 754 |
+/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 52 914 |
+/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 508 | 54 690 |
+/// | `ROTORID_KIND_PAPER_PLAIN` | 888 | 128 | 2 584 | 45 322 |
+/// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
+/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 096 | 49 122 |
+/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 820 | 54 570 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 636 | 58 122 |
 ///
 /// # Safety
-/// `storage` is NULL or valid for writes of `storage_size` bytes; `config`, `sets`, `handle`
-/// and `error` are NULL or valid.
+/// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
+/// NULL or valid for reads; `handle` and `error` are NULL or valid for writes.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_init(
     storage: *mut core::ffi::c_void,
@@ -172,7 +272,8 @@ pub unsafe extern "C" fn rotorid_init(
 
 /// `rotorid_init` for `ROTORID_KIND_FLIGHT`, linking that kind only. `sets`: NULL for the
 /// defaults (`rotorid_flight_sets_default`). Every `rotorid_init_<kind>` takes the same
-/// arguments; `sets` must be NULL for the kinds without premise sets of their own.
+/// arguments, pointers and codes as `rotorid_init` (but KIND); `sets` must be NULL for the
+/// kinds without premise sets of their own.
 ///
 /// # Safety
 /// As `rotorid_init`.
@@ -364,13 +465,13 @@ pub unsafe extern "C" fn rotorid_init_extended_local(
     }
 }
 
-/// Checks a handle's pointer and tag; returns its header.
+/// Checks a handle's pointer and header; returns the kind and its view function.
 ///
 /// # Safety
 /// `h` is NULL or points to at least `size_of::<Header>()` readable bytes, and, when they
-/// start with the tag that `rotorid_init*` writes, to storage that `rotorid_init*` prepared
-/// and nothing else wrote since.
-unsafe fn header<'a>(h: *const rotorid_ident_t) -> Result<&'a Header, rotorid_error_t> {
+/// hold a header that passes the checks below, to storage that `rotorid_init*` prepared (and
+/// that only the library wrote since, or that was moved as the module docs allow).
+unsafe fn header(h: *const rotorid_ident_t) -> Result<(u32, ViewFn), rotorid_error_t> {
     let p = h.cast::<Header>();
     if p.is_null() {
         return Err(rotorid_error_t::interface(ROTORID_E_NULL));
@@ -378,14 +479,20 @@ unsafe fn header<'a>(h: *const rotorid_ident_t) -> Result<&'a Header, rotorid_er
     if !(p as usize).is_multiple_of(ROTORID_STORAGE_ALIGN) {
         return Err(rotorid_error_t::interface(ROTORID_E_MISALIGNED));
     }
-    // SAFETY: aligned and readable by the caller's contract; the tag is read before anything
-    // else is trusted.
-    let tag = unsafe { p.cast::<u32>().read() };
-    if tag != TAG {
-        return Err(rotorid_error_t::interface(ROTORID_E_NOT_INITIALISED));
+    // SAFETY: aligned and readable by the caller's contract; every word is checked before
+    // anything else is trusted.
+    let hd = unsafe { p.read() };
+    let expected = CHECKS.get(hd.kind as usize).copied().unwrap_or(0);
+    let intact = hd.magic == MAGIC
+        && hd.layout == ROTORID_LAYOUT_VERSION
+        && hd.kind != 0
+        && hd.check == expected;
+    let not_initialised = rotorid_error_t::interface(ROTORID_E_NOT_INITIALISED);
+    if !intact {
+        return Err(not_initialised);
     }
-    // SAFETY: tagged, so prepared by `init` (the caller's contract).
-    Ok(unsafe { &*p })
+    let view = registered(hd.kind).ok_or(not_initialised)?;
+    Ok((hd.kind, view))
 }
 
 /// The kind code behind a handle, after checking it.
@@ -394,7 +501,7 @@ unsafe fn header<'a>(h: *const rotorid_ident_t) -> Result<&'a Header, rotorid_er
 /// As [`header`].
 pub(crate) unsafe fn kind_of(h: *const rotorid_ident_t) -> Result<u32, rotorid_error_t> {
     // SAFETY: the caller's contract.
-    unsafe { header(h) }.map(|hd| hd.kind)
+    unsafe { header(h) }.map(|(kind, _)| kind)
 }
 
 /// The identifier behind a handle, after checking it.
@@ -404,10 +511,10 @@ pub(crate) unsafe fn kind_of(h: *const rotorid_ident_t) -> Result<u32, rotorid_e
 pub(crate) unsafe fn ident<'a>(
     h: *const rotorid_ident_t,
 ) -> Result<&'a dyn Ident, rotorid_error_t> {
-    // SAFETY: the caller's contract; `view` is the one `init` stored for this storage.
+    // SAFETY: the caller's contract; `view` is the one registered for the checked kind.
     unsafe {
-        let hd = header(h)?;
-        Ok(&*(hd.view)(h.cast::<Header>().cast_mut()))
+        let (_, view) = header(h)?;
+        Ok(&*view(h.cast::<Header>().cast_mut()))
     }
 }
 
@@ -420,7 +527,7 @@ pub(crate) unsafe fn ident_mut<'a>(
 ) -> Result<&'a mut dyn Ident, rotorid_error_t> {
     // SAFETY: as in `ident`.
     unsafe {
-        let hd = header(h)?;
-        Ok(&mut *(hd.view)(h.cast::<Header>()))
+        let (_, view) = header(h)?;
+        Ok(&mut *view(h.cast::<Header>()))
     }
 }

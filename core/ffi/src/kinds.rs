@@ -54,21 +54,21 @@ pub const ROTORID_PAPER_LOCAL_STORAGE_SIZE: usize = 3104;
 pub const ROTORID_EXTENDED_LOCAL_STORAGE_SIZE: usize = 4872;
 
 /// Export bytes of `ROTORID_KIND_FLIGHT`.
-pub const ROTORID_FLIGHT_EXPORT_SIZE: usize = 1896;
+pub const ROTORID_FLIGHT_EXPORT_SIZE: usize = 1900;
 /// Export bytes of `ROTORID_KIND_FLIGHT_PLAIN`.
-pub const ROTORID_FLIGHT_PLAIN_EXPORT_SIZE: usize = 640;
+pub const ROTORID_FLIGHT_PLAIN_EXPORT_SIZE: usize = 644;
 /// Export bytes of `ROTORID_KIND_PAPER_FUZZY`.
-pub const ROTORID_PAPER_FUZZY_EXPORT_SIZE: usize = 10520;
+pub const ROTORID_PAPER_FUZZY_EXPORT_SIZE: usize = 10524;
 /// Export bytes of `ROTORID_KIND_PAPER_PLAIN`.
-pub const ROTORID_PAPER_PLAIN_EXPORT_SIZE: usize = 124;
+pub const ROTORID_PAPER_PLAIN_EXPORT_SIZE: usize = 128;
 /// Export bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
-pub const ROTORID_EXTENDED_FUZZY_EXPORT_SIZE: usize = 26432;
+pub const ROTORID_EXTENDED_FUZZY_EXPORT_SIZE: usize = 26436;
 /// Export bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
-pub const ROTORID_EXTENDED_PLAIN_EXPORT_SIZE: usize = 424;
+pub const ROTORID_EXTENDED_PLAIN_EXPORT_SIZE: usize = 428;
 /// Export bytes of `ROTORID_KIND_PAPER_LOCAL`.
-pub const ROTORID_PAPER_LOCAL_EXPORT_SIZE: usize = 1776;
+pub const ROTORID_PAPER_LOCAL_EXPORT_SIZE: usize = 1780;
 /// Export bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
-pub const ROTORID_EXTENDED_LOCAL_EXPORT_SIZE: usize = 3624;
+pub const ROTORID_EXTENDED_LOCAL_EXPORT_SIZE: usize = 3628;
 
 /// The calls the C interface makes on any identifier kind.
 pub(crate) trait Ident {

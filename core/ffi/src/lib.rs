@@ -7,13 +7,16 @@
 //!
 //! - **Storage**: every identifier lives in memory the caller provides (no `malloc`): at least
 //!   `ROTORID_<KIND>_STORAGE_SIZE` bytes aligned to [`ROTORID_STORAGE_ALIGN`]. The handle is a
-//!   pointer into it, checked on every call (null, alignment, a tag word written by
-//!   [`rotorid_init`]).
+//!   pointer into it, checked on every call (null, alignment, and a 16-byte header of magic,
+//!   kind, layout version and CRC-32 check word written by [`rotorid_init`]; see [`handle`]).
+//!   The storage holds no address: it may be moved, not saved across builds.
 //! - **Identifiers**: the flight default and the paper's variants (`ROTORID_KIND_*`), f32.
 //! - **Errors**: every call returns [`ROTORID_OK`] or a code that names one core error
 //!   ([`rotorid::Error`], [`rotorid::ConfigError`]) or one interface error (null pointer, small
-//!   buffer, ...); [`rotorid_error_t`] gives the detail. A call that fails changes nothing.
-//! - **Export/import**: a documented byte format (see [`export`]) for warm starts.
+//!   buffer, ...); [`rotorid_error_t`] gives the detail. A call that fails changes nothing and
+//!   writes no output but the detail.
+//! - **Export/import**: a documented byte format with a version and a CRC-32 (see [`export`]
+//!   and `docs/c-interface.md`) for warm starts.
 //! - **Sweeps**: Table 2's frequency sweeps and their schedule ([`sweep`]).
 //! - **Frames**: samples from NED velocity and FRD rates in rad/s ([`frames`]).
 //!
@@ -43,6 +46,10 @@ pub mod export;
 pub mod frames;
 pub mod handle;
 pub mod kinds;
+#[cfg(test)]
+mod promises;
+#[cfg(test)]
+mod sequences;
 pub mod sweep;
 pub mod types;
 

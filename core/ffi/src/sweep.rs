@@ -161,7 +161,9 @@ pub unsafe extern "C" fn rotorid_sweep_offset(
         let (sweep, offset) = unsafe { (sweep.as_ref(), offset.as_mut()) };
         let (sweep, offset) = (sweep.ok_or(null)?, offset.ok_or(null)?);
         if !t_s.is_finite() {
-            return Err(Error::NonFinite(rotorid::Quantity::Config).into());
+            // A time, not a setting: NON_FINITE with the time as its quantity.
+            let time = rotorid::Quantity::Sample(rotorid::hover::SampleField::Time);
+            return Err(Error::NonFinite(time).into());
         }
         *offset = Sweep::try_from(sweep)?.offset(t_s);
         Ok(())

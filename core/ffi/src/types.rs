@@ -6,9 +6,9 @@ use rotorid::hover::{
     flight_sets, Attitude, Controls, HoverSample, HoverState, RegressorScaling, StepOutput,
 };
 use rotorid::rls::{Algorithm, RlsConfig};
-use rotorid::{Error, HoverConfig, Quantity};
+use rotorid::HoverConfig;
 
-use crate::error::report;
+use crate::error::*;
 use crate::handle::put;
 
 /// One measurement sample at time step k.
@@ -152,20 +152,20 @@ impl From<HoverConfig<f32>> for rotorid_config_t {
 }
 
 impl TryFrom<&rotorid_config_t> for HoverConfig<f32> {
-    type Error = Error;
+    type Error = rotorid_error_t;
 
     /// The core validates the values; here only the two codes are checked
-    /// (`OutOfRange(Config)` for an unknown one).
-    fn try_from(c: &rotorid_config_t) -> Result<Self, Error> {
+    /// (`ROTORID_E_CONFIG_ALGORITHM`, `ROTORID_E_CONFIG_SCALING` for an unknown one).
+    fn try_from(c: &rotorid_config_t) -> Result<Self, rotorid_error_t> {
         let algorithm = match c.algorithm {
             ROTORID_ALGORITHM_COVARIANCE => Algorithm::Covariance,
             ROTORID_ALGORITHM_UD => Algorithm::UdFactor,
-            _ => return Err(Error::OutOfRange(Quantity::Config)),
+            _ => return Err(rotorid_error_t::interface(ROTORID_E_CONFIG_ALGORITHM)),
         };
         let scaling = match c.scaling {
             ROTORID_SCALING_NONE => RegressorScaling::None,
             ROTORID_SCALING_HELICOPTER => RegressorScaling::Helicopter,
-            _ => return Err(Error::OutOfRange(Quantity::Config)),
+            _ => return Err(rotorid_error_t::interface(ROTORID_E_CONFIG_SCALING)),
         };
         Ok(HoverConfig {
             rls: RlsConfig {

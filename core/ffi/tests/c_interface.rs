@@ -137,6 +137,23 @@ impl Fnv {
     }
 }
 
+/// CRC-32/ISO-HDLC bit by bit, from its definition (reflected polynomial 0xEDB88320, initial
+/// value and final XOR 0xFFFFFFFF): an independent check of the library's table CRC.
+fn crc32_bitwise(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
 /// The export format of `src/export.rs`, written again from its documentation.
 trait ExportBytes {
     fn write(&self, out: &mut Vec<u8>);
@@ -198,12 +215,14 @@ where
     steps.state(&id.predict(flight.last().unwrap()).unwrap());
     let mut bytes = Vec::new();
     bytes.extend(b"RIDX");
-    bytes.extend(1u32.to_le_bytes());
+    bytes.extend(2u32.to_le_bytes());
     bytes.extend(kind.to_le_bytes());
     id.velocity_model().export().write(&mut bytes);
     id.pitch_model().export().write(&mut bytes);
     id.yaw_model().export().write(&mut bytes);
     id.roll_model().export().write(&mut bytes);
+    let crc = crc32_bitwise(&bytes);
+    bytes.extend(crc.to_le_bytes());
     let mut export = Fnv(FNV_START);
     export.bytes(&bytes);
     let mut simulate = Fnv(FNV_START);
@@ -359,6 +378,69 @@ fn c_host_program_matches_rotorid_bit_for_bit() {
         .arg(dir.join("example.o")));
 }
 
+/// The C program of docs/c-interface.md ("The program written from this page"), cut out of
+/// the page as it stands.
+fn documented_program(dir: &Path) -> PathBuf {
+    let doc = fs::read_to_string(crate_dir().join("../../docs/c-interface.md")).unwrap();
+    let (begin, end) = (
+        "<!-- c program: begin -->\n```c\n",
+        "```\n<!-- c program: end -->",
+    );
+    let b = doc
+        .find(begin)
+        .expect("c program markers in docs/c-interface.md")
+        + begin.len();
+    let e = doc.find(end).expect("c program end marker");
+    let path = dir.join("documented.c");
+    fs::write(&path, &doc[b..e]).unwrap();
+    path
+}
+
+/// The program written from docs/c-interface.md links with the page's host line and runs
+/// (exit 0), and links with its Cortex-M line (hard float, `-lgcc`, `--gc-sections`,
+/// `-z noexecstack`; `main` as the entry point instead of a board's startup).
+#[test]
+fn the_documented_program_links() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("documented");
+    fs::create_dir_all(&dir).unwrap();
+    let program = documented_program(&dir);
+    let include = crate_dir().join("include");
+    let host = dir.join("documented");
+    run(Command::new("cc")
+        .args(C_FLAGS)
+        .arg("-I")
+        .arg(&include)
+        .arg(&program)
+        .arg(static_library(None))
+        .arg("-o")
+        .arg(&host));
+    run(&mut Command::new(&host));
+    if !have("arm-none-eabi-gcc") {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "arm-none-eabi-gcc is missing (CI=1)"
+        );
+        eprintln!("skipped the Cortex-M link: arm-none-eabi-gcc not installed");
+        return;
+    }
+    run(Command::new("arm-none-eabi-gcc")
+        .args([
+            "-mcpu=cortex-m4",
+            "-mthumb",
+            "-mfloat-abi=hard",
+            "-mfpu=fpv4-sp-d16",
+        ])
+        .args(C_FLAGS)
+        .args(["-ffunction-sections", "-fdata-sections", "-I"])
+        .arg(&include)
+        .arg(&program)
+        .arg(static_library(Some("thumbv7em-none-eabihf")))
+        .args(["-lgcc", "-Wl,--gc-sections", "-z", "noexecstack"])
+        .args(["-nostdlib", "-nostartfiles", "-Wl,-e,main"])
+        .arg("-o")
+        .arg(dir.join("documented.elf")));
+}
+
 #[test]
 fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
     let tools = ["arm-none-eabi-gcc", "qemu-system-arm"];
@@ -374,7 +456,28 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
     let dir = work_dir("c-firmware", &flight);
     let lib = static_library(Some("thumbv7em-none-eabihf"));
     let c = crate_dir().join("c");
+    // The firmware with every kind (through `rotorid_init`) carries the flight's 90 KB of data
+    // beside 173 KB of library and driver: more than the repository's 256 KiB flash
+    // (memory.x), though the library alone fits. It gets a copy of memory.x with 512 KiB
+    // (QEMU's mps2-an386 has 4 MiB of code memory); each kind's own firmware keeps 256 KiB.
+    let wide = dir.join("wide");
+    fs::create_dir_all(&wide).unwrap();
+    let memory = fs::read_to_string(crate_dir().join("../../memory.x")).unwrap();
+    assert!(
+        memory.contains("LENGTH = 256K"),
+        "memory.x's flash is no longer 256K"
+    );
+    fs::write(
+        wide.join("memory.x"),
+        memory.replace("LENGTH = 256K", "LENGTH = 512K"),
+    )
+    .unwrap();
     let firmware = |define: &str, elf: &Path| -> String {
+        let memory_dir = if define == "-DDRIVE_SMALL" {
+            wide.clone()
+        } else {
+            crate_dir().join("../..")
+        };
         run(Command::new("arm-none-eabi-gcc")
             .args([
                 "-mcpu=cortex-m4",
@@ -395,7 +498,7 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
             .arg(&lib)
             .arg("-lgcc")
             .arg("-L")
-            .arg(crate_dir().join("../.."))
+            .arg(&memory_dir)
             .arg("-T")
             .arg(c.join("firmware/link.ld"))
             .arg("-o")
@@ -464,6 +567,7 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         (8, "extended_local"),
     ];
     let doc = fs::read_to_string(crate_dir().join("../../docs/c-interface.md")).unwrap();
+    let mut measured = Vec::new();
     for (kind, name) in inits {
         let elf = dir.join(format!("kind{kind}.elf"));
         let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
@@ -477,6 +581,156 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
             .and_then(|n| n.parse().ok())
             .unwrap();
         documented_sizes_hold(&doc, &name.to_uppercase(), stack, text);
+        measured.push((kind, stack, text));
+    }
+    if std::env::var_os("ROTORID_BLESS").is_some() {
+        write_size_tables(&size_table(&measured));
+    }
+}
+
+/// The kinds in the size table's order: code, name, what the row adds to the name.
+const KIND_ROWS: [(u32, &str, &str); 8] = [
+    (1, "FLIGHT", " (the flight default)"),
+    (2, "FLIGHT_PLAIN", ""),
+    (3, "PAPER_FUZZY", ""),
+    (4, "PAPER_PLAIN", ""),
+    (5, "EXTENDED_FUZZY", ""),
+    (6, "EXTENDED_PLAIN", ""),
+    (7, "PAPER_LOCAL", ""),
+    (8, "EXTENDED_LOCAL", ""),
+];
+
+/// A number with thin groups of three (`53 386`), as the docs write them.
+fn grouped(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// `#define NAME value` of the committed header.
+fn header_constant(name: &str) -> usize {
+    let header = fs::read_to_string(crate_dir().join("include/rotorid.h")).unwrap();
+    let prefix = format!("#define {name} ");
+    header
+        .lines()
+        .find_map(|l| l.strip_prefix(&prefix))
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no {name} in include/rotorid.h"))
+}
+
+/// The size table (markdown, header line included): storage and export from the header's
+/// constants, stack and text as measured (`(kind, stack, text)`).
+fn size_table(measured: &[(u32, usize, usize)]) -> String {
+    let mut t = String::from(
+        "| kind | storage (B) | export (B) | stack (B) | firmware text (B) |\n|---|---|---|---|---|\n",
+    );
+    for (kind, name, note) in KIND_ROWS {
+        let storage = header_constant(&format!("ROTORID_{name}_STORAGE_SIZE"));
+        let export = header_constant(&format!("ROTORID_{name}_EXPORT_SIZE"));
+        let (stack, text) = match measured.iter().find(|m| m.0 == kind) {
+            Some(&(_, stack, text)) => (grouped(stack), grouped(text)),
+            None => ("not measured (see below)".to_string(), String::new()),
+        };
+        writeln!(
+            t,
+            "| `ROTORID_KIND_{name}`{note} | {} | {} | {stack} | {text} |",
+            grouped(storage),
+            grouped(export)
+        )
+        .unwrap();
+    }
+    t
+}
+
+const SIZES_BEGIN: &str = "<!-- sizes: begin (core/ffi/tests/c_interface.rs) -->\n";
+const SIZES_END: &str = "<!-- sizes: end -->";
+const HANDLE_RS: &str = "src/handle.rs";
+
+/// The size table of docs/c-interface.md and the one in `rotorid_init`'s comment (which
+/// cbindgen copies into the header).
+fn size_tables() -> (String, String) {
+    let doc = fs::read_to_string(crate_dir().join("../../docs/c-interface.md")).unwrap();
+    let begin = doc
+        .find(SIZES_BEGIN)
+        .expect("size table markers in docs/c-interface.md");
+    let end = doc.find(SIZES_END).expect("size table end marker");
+    let in_doc = doc[begin + SIZES_BEGIN.len()..end].to_string();
+    let src = fs::read_to_string(crate_dir().join(HANDLE_RS)).unwrap();
+    let in_comment: String = src
+        .lines()
+        .skip_while(|l| !l.starts_with("/// | kind | storage (B)"))
+        .take_while(|l| l.starts_with("/// |"))
+        .map(|l| format!("{}\n", &l[4..]))
+        .collect();
+    (in_doc, in_comment)
+}
+
+/// Rewrites both size tables (ROTORID_BLESS=1 with the firmware test); regenerate the header
+/// afterwards (ROTORID_BLESS=1 ... --test header).
+fn write_size_tables(table: &str) {
+    let path = crate_dir().join("../../docs/c-interface.md");
+    let doc = fs::read_to_string(&path).unwrap();
+    let begin = doc.find(SIZES_BEGIN).unwrap() + SIZES_BEGIN.len();
+    let end = doc.find(SIZES_END).unwrap();
+    fs::write(&path, format!("{}{table}{}", &doc[..begin], &doc[end..])).unwrap();
+    let path = crate_dir().join(HANDLE_RS);
+    let src = fs::read_to_string(&path).unwrap();
+    let mut out = String::new();
+    let mut in_table = false;
+    for line in src.lines() {
+        if line.starts_with("/// | kind | storage (B)") {
+            in_table = true;
+            for row in table.lines() {
+                writeln!(out, "/// {row}").unwrap();
+            }
+            continue;
+        }
+        if in_table && line.starts_with("/// |") {
+            continue;
+        }
+        in_table = false;
+        writeln!(out, "{line}").unwrap();
+    }
+    fs::write(&path, out).unwrap();
+}
+
+/// One size table: the doc's and the header's are the same text, and their storage and export
+/// columns are the header's constants (stack and text: the firmware test above).
+#[test]
+fn the_size_tables_agree() {
+    let (in_doc, in_comment) = size_tables();
+    assert_eq!(
+        in_doc, in_comment,
+        "docs/c-interface.md and src/handle.rs differ"
+    );
+    for (_, name, _) in KIND_ROWS {
+        let row = in_doc
+            .lines()
+            .find(|l| l.starts_with(&format!("| `ROTORID_KIND_{name}`")))
+            .unwrap_or_else(|| panic!("no row for {name}"));
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        let number = |c: &str| -> usize { c.replace(' ', "").parse().unwrap() };
+        assert_eq!(
+            number(cells[2]),
+            header_constant(&format!("ROTORID_{name}_STORAGE_SIZE"))
+        );
+        assert_eq!(
+            number(cells[3]),
+            header_constant(&format!("ROTORID_{name}_EXPORT_SIZE"))
+        );
+    }
+    let header = fs::read_to_string(crate_dir().join("include/rotorid.h")).unwrap();
+    for line in in_doc.lines() {
+        assert!(
+            header.contains(line),
+            "include/rotorid.h lacks {line:?} (re-bless the header)"
+        );
     }
 }
 

@@ -356,11 +356,13 @@ where
     /// Errors (nothing changes on any of them): a field out of range or not finite
     /// ([`SampleLimits`]), a time stamp that does not increase, an interval outside
     /// `sample_period_us ± period_tolerance_us` (after a gap, call [`resume`](Self::resume)),
-    /// or an update beyond the estimator's numeric limits. One exception to "nothing changes":
-    /// [`Error::Numerical`] after learning means the prediction from the updated parameters
-    /// overflowed (possible only with parameters far beyond anything learning produces, such
-    /// as an absurd imported state); the sample was learnt, and the identifier should be
-    /// [`reset`](Self::reset).
+    /// or an update beyond the estimator's numeric limits. Every error is found before anything
+    /// is written, whatever state an [`import`](Self::import) brought in: an import bounds
+    /// every parameter and every factor entry (see [`Rls::check_import`](crate::Rls::check_import)),
+    /// the covariance form skips (and counts) an update that would take a parameter past them,
+    /// the U-D form's gain is bounded by `√P_ii/(2√λ)` (`P_ii` stays within its import bound),
+    /// and with such parameters a prediction from a sample that passed [`SampleLimits`] is
+    /// finite, so the prediction after the update cannot fail.
     pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
@@ -386,8 +388,10 @@ where
         let frame = BodyFrame::of(&sample.attitude);
         self.chain = Chain::new(sample, frame, &before);
         self.timing.chained = true;
-        // The sample passed SampleLimits, which bounds every regressor; only parameters beyond
-        // any learnt ones could make this fail (see the docs above).
+        // The sample passed SampleLimits, which bounds every regressor, and the parameters are
+        // bounded (see the docs above): this prediction is finite, so no error comes after the
+        // update was written. (`predict_keep` keeps its `Result` for the models' own checks,
+        // which the same sample passed in `prepare_in`.)
         let prediction = self.predict_keep(sample, &frame, &before)?;
         Ok(StepOutput {
             prediction,
@@ -539,6 +543,9 @@ where
 
     /// Warm start from an exported snapshot. The sample chain restarts (the next step only
     /// anchors). All four states are checked before any is written; on `Err` nothing changed.
+    /// The checks bound every word of every state (θ, and every entry of the covariance or
+    /// U-D factor, not only its diagonal), so that an accepted state cannot make a later
+    /// [`step`](Self::step) or [`resume`](Self::resume) fail after writing.
     pub fn import(
         &mut self,
         snapshot: &HoverSnapshot<Vm::State, Qm::State, Rm::State, Pm::State>,

@@ -34,8 +34,8 @@
 //! [`Rls::bias_compensated`] returns the parameters and changes nothing; [`Rls::compensate`]
 //! writes them into θ (P is kept).
 
-use super::{col, Algorithm, Rls, RlsConfig, RlsCore};
-use crate::scalar::Real;
+use super::{col, Algorithm, Rls, RlsConfig, RlsCore, PARAMETER_LIMIT};
+use crate::scalar::{within, Real};
 
 /// The noise of one regressor, in the estimator's (scaled) units: what
 /// [`Rls::bias_compensated`] removes.
@@ -175,7 +175,9 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         for ((t, &ps), &pj) in theta.iter_mut().zip(p_s.iter()).zip(p_j.iter()) {
             *t = *t - samples * ps + gain * pj;
         }
-        if theta.iter().all(|t| t.is_finite()) {
+        // Within the import bound: a compensated θ beyond it could make a later prediction
+        // overflow after a step had written its update.
+        if theta.iter().all(|&t| within(t, T::lit(PARAMETER_LIMIT))) {
             Ok(theta)
         } else {
             Err(NotCompensated::Numerical)

@@ -76,6 +76,11 @@ pub const COVARIANCE_LIMIT: f64 = 1e12;
 /// coordinates). Learning never comes near it; a state beyond it would make predictions
 /// overflow.
 pub const PARAMETER_LIMIT: f64 = 1e12;
+/// Largest magnitude of an imported off-diagonal factor entry (`P_ij` in the covariance form,
+/// `U_ij` in the U-D form). Learning keeps `|P_ij| ≤ √(P_ii P_jj)` ≤ [`COVARIANCE_LIMIT`];
+/// `U_ij` can exceed it where `D_j` is tiny, hence the wider bound. Within it `Uᵀξ` and `Pξ`
+/// stay finite in f32 for every N ≤ 512 (`512 · 1e18 · 1e7 ≈ 5e27`).
+pub const FACTOR_ENTRY_LIMIT: f64 = 1e18;
 
 /// How the covariance is propagated (see the [module docs](self)).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -205,7 +210,7 @@ pub struct RlsCounters {
     /// Steps in which forgetting was suspended by the trace bound.
     pub windup_guards: u32,
     /// Covariance-form updates skipped because P had lost positive definiteness (a
-    /// non-positive `λ + ξᵀPξ`) or the step was not finite. Always 0 for the U-D form.
+    /// non-positive `λ + ξᵀPξ`) or the step would take a parameter beyond [`PARAMETER_LIMIT`]. Always 0 for the U-D form.
     pub numerical_skips: u32,
 }
 
@@ -498,10 +503,12 @@ impl<T: Real, const N: usize, const NP: usize> Rls<T, N, NP> {
     }
 
     /// The checks of [`import`](Self::import): the same algorithm, every entry finite, every
-    /// parameter within [`PARAMETER_LIMIT`], every
-    /// diagonal entry at most [`COVARIANCE_LIMIT`], and for the U-D form every `D_j ≥ 0` (an
-    /// invariant of that form; the covariance form in f32 may legitimately have lost
-    /// definiteness).
+    /// parameter within [`PARAMETER_LIMIT`], every diagonal entry within [`COVARIANCE_LIMIT`]
+    /// (for the U-D form `0 ≤ D_j`, an invariant of that form; the covariance form in f32 may
+    /// legitimately have lost definiteness), every off-diagonal entry within
+    /// [`FACTOR_ENTRY_LIMIT`], and for the U-D form every `P_ii = D_i + Σ U_ij² D_j` within
+    /// twice [`COVARIANCE_LIMIT`]. An accepted state cannot make a later step fail after it
+    /// started writing.
     pub fn check_import(&self, state: &RlsState<T, N, NP>) -> Result<(), Error> {
         RlsCore::check_import(&self.config, state)
     }
@@ -600,6 +607,13 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
     }
 
     /// [`Rls::check_import`].
+    ///
+    /// Bounds every word of the state, not only the diagonal, because an accepted import must
+    /// leave every later step able to succeed or fail before it writes: with θ within
+    /// [`PARAMETER_LIMIT`] and every regressor within [`REGRESSOR_LIMIT`] a prediction is at
+    /// most `N·1e19` in magnitude (finite in f32 for every N ≤ 512), and with every factor
+    /// entry and every `P_ii` bounded the first update's sums (`Pξ`, `ξᵀPξ`, `Uᵀξ`, `fᵀDf`)
+    /// are finite too (Cauchy–Schwarz: `D_j f_j² ≤ |ξ|² Σ_i P_ii`).
     pub(crate) fn check_import(
         config: &RlsConfig<T>,
         state: &RlsState<T, N, NP>,
@@ -607,29 +621,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         if state.algorithm != config.algorithm {
             return Err(Error::Incompatible);
         }
-        for (i, t) in state.theta.iter().enumerate() {
-            if !t.is_finite() {
-                return Err(Error::NonFinite(Quantity::Parameter(i as u16)));
-            }
-            if !within(*t, T::lit(PARAMETER_LIMIT)) {
-                return Err(Error::OutOfRange(Quantity::Parameter(i as u16)));
-            }
-        }
-        let limit = T::lit(COVARIANCE_LIMIT);
-        for (i, p) in state.factor.iter().enumerate() {
-            if !p.is_finite() {
-                return Err(Error::NonFinite(Quantity::Covariance(i as u16)));
-            }
-        }
-        for j in 0..N {
-            let k = col(j) + j;
-            let d = state.factor.get(k).copied().unwrap_or_else(T::zero);
-            let negative = d < T::zero() && state.algorithm == Algorithm::UdFactor;
-            if negative || d > limit {
-                return Err(Error::OutOfRange(Quantity::Covariance(k as u16)));
-            }
-        }
-        Ok(())
+        check_state_words(config, &state.theta, &state.factor)
     }
 
     /// One scalar update whose inputs passed the checks of `update_many`.
@@ -700,6 +692,68 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
             self.counters.updates = self.counters.updates.wrapping_add(1);
         }
     }
+}
+
+/// The value checks of [`RlsCore::check_import`], over slices: one copy of the code per
+/// scalar type, not one per estimator size (a firmware holds eight sizes or more).
+#[inline(never)]
+fn check_state_words<T: Real>(
+    config: &RlsConfig<T>,
+    theta: &[T],
+    factor: &[T],
+) -> Result<(), Error> {
+    for (i, t) in theta.iter().enumerate() {
+        if !t.is_finite() {
+            return Err(Error::NonFinite(Quantity::Parameter(i as u16)));
+        }
+        if !within(*t, T::lit(PARAMETER_LIMIT)) {
+            return Err(Error::OutOfRange(Quantity::Parameter(i as u16)));
+        }
+    }
+    let limit = T::lit(COVARIANCE_LIMIT);
+    let entry_limit = T::lit(FACTOR_ENTRY_LIMIT);
+    let ud = config.algorithm == Algorithm::UdFactor;
+    for j in 0..theta.len() {
+        let Some((&d, above)) = column(factor, j) else {
+            return Err(Error::Incompatible);
+        };
+        for (i, &p) in above.iter().enumerate() {
+            let at = Quantity::Covariance((col(j) + i) as u16);
+            if !p.is_finite() {
+                return Err(Error::NonFinite(at));
+            }
+            if !within(p, entry_limit) {
+                return Err(Error::OutOfRange(at));
+            }
+        }
+        let at = Quantity::Covariance((col(j) + j) as u16);
+        if !d.is_finite() {
+            return Err(Error::NonFinite(at));
+        }
+        // The covariance form in f32 may legitimately have lost definiteness (a slightly
+        // negative diagonal); the U-D form keeps D ≥ 0 by construction.
+        let negative = if ud { d < T::zero() } else { d < -limit };
+        if negative || d > limit {
+            return Err(Error::OutOfRange(at));
+        }
+    }
+    if ud {
+        // P_ii = D_i + Σ_{j>i} U_ij² D_j: bounded D and U do not bound P (U = 1e12 with D = 1
+        // is P_ii = 1e24). Learning never lets P_ii grow past max(α, trace bound) ≤ 1e12 (up
+        // to rounding: hence twice the limit).
+        let view = RlsView {
+            config,
+            theta,
+            factor,
+            counters: &RlsCounters::NONE,
+        };
+        for (i, p) in view.covariance_diagonal().enumerate() {
+            if !within(p, limit + limit) {
+                return Err(Error::OutOfRange(Quantity::Covariance((col(i) + i) as u16)));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks every regressor entry: finite and within [`REGRESSOR_LIMIT`].

@@ -4,8 +4,8 @@
 
 use core::ops::Range;
 
-use super::{col, column, column_mut, Algorithm, RlsConfig, RlsCounters, RlsView};
-use crate::scalar::Real;
+use super::{col, column, column_mut, Algorithm, RlsConfig, RlsCounters, RlsView, PARAMETER_LIMIT};
+use crate::scalar::{within, Real};
 
 /// A run `start..end` of consecutive parameter indices (see `Rls::update_row`'s support).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -277,8 +277,9 @@ impl<T: Real> RlsSlices<'_, T> {
             }
         }
         // In f32 with a large α this form can lose positive definiteness (the reason the U-D
-        // form exists): an update whose denominator is not positive, or whose step is not
-        // finite, is skipped and counted rather than allowed to produce ∞ or NaN.
+        // form exists): an update whose denominator is not positive, or whose step would take
+        // a parameter beyond PARAMETER_LIMIT, is skipped and counted rather than allowed to
+        // produce ∞, NaN or a parameter that no prediction survives.
         if !(denom > T::zero() && denom.is_finite()) {
             self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
             return false;
@@ -294,7 +295,9 @@ impl<T: Real> RlsSlices<'_, T> {
             };
             for ((ki, &gi), &t) in ks.iter_mut().zip(gs).zip(ts) {
                 *ki = gi / denom;
-                if !(t + *ki * e).is_finite() {
+                // Within the import bound, not only finite: a finite θ near f32::MAX would
+                // make the next prediction overflow after this step had been written.
+                if !within(t + *ki * e, T::lit(PARAMETER_LIMIT)) {
                     self.counters.numerical_skips = self.counters.numerical_skips.wrapping_add(1);
                     return false;
                 }

@@ -1,0 +1,437 @@
+//! The interface's promises under attack, one test each: a damaged header is refused bit by
+//! bit, a moved storage keeps working, a damaged export is refused bit by bit, a refused
+//! call writes no output, configuration errors have `CONFIG_*` codes; and the worked export
+//! example of `docs/c-interface.md`, regenerated here.
+
+extern crate std;
+
+use core::ptr::{null, null_mut};
+use std::format;
+use std::string::String;
+use std::vec;
+use std::vec::Vec;
+
+use crate::calls::*;
+use crate::error::*;
+use crate::handle::*;
+use crate::kinds::*;
+use crate::types::*;
+
+const KINDS: [u32; 8] = [
+    ROTORID_KIND_FLIGHT,
+    ROTORID_KIND_FLIGHT_PLAIN,
+    ROTORID_KIND_PAPER_FUZZY,
+    ROTORID_KIND_PAPER_PLAIN,
+    ROTORID_KIND_EXTENDED_FUZZY,
+    ROTORID_KIND_EXTENDED_PLAIN,
+    ROTORID_KIND_PAPER_LOCAL,
+    ROTORID_KIND_EXTENDED_LOCAL,
+];
+
+/// An identifier of `kind` in storage of its own (8-byte words: aligned).
+struct Prepared {
+    storage: Vec<u64>,
+    kind: u32,
+}
+
+impl Prepared {
+    fn new(kind: u32) -> Self {
+        let size = rotorid_storage_size(kind);
+        let mut storage = vec![0u64; size.div_ceil(8)];
+        let mut h = null_mut();
+        // SAFETY: aligned storage of `size` bytes; valid pointers.
+        let rc = unsafe {
+            rotorid_init(
+                storage.as_mut_ptr().cast(),
+                size,
+                kind,
+                null(),
+                null(),
+                &mut h,
+                null_mut(),
+            )
+        };
+        assert_eq!(rc, ROTORID_OK);
+        Self { storage, kind }
+    }
+    fn h(&mut self) -> *mut rotorid_ident_t {
+        self.storage.as_mut_ptr().cast()
+    }
+    fn bytes(&self) -> Vec<u8> {
+        self.storage.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+    fn flip(&mut self, bit: usize) {
+        let word = &mut self.storage[bit / 64];
+        *word ^= 1 << (bit % 64);
+    }
+    fn step(&mut self, k: u64) -> i32 {
+        let s = sample(k);
+        let mut out = rotorid_step_output_t::default();
+        // SAFETY: valid pointers.
+        unsafe { rotorid_step(self.h(), &s, &mut out, null_mut()) }
+    }
+    fn export(&mut self) -> Vec<u8> {
+        let mut buf = vec![0u8; rotorid_export_size(self.kind)];
+        let mut len = 0;
+        // SAFETY: valid pointers.
+        let rc =
+            unsafe { rotorid_export(self.h(), buf.as_mut_ptr(), buf.len(), &mut len, null_mut()) };
+        assert_eq!((rc, len), (ROTORID_OK, buf.len()));
+        buf
+    }
+}
+
+fn sample(k: u64) -> rotorid_sample_t {
+    let t = k as f32 * 0.02;
+    rotorid_sample_t {
+        time_us: 1_000_000 + 20_000 * k,
+        roll: 0.05 * (0.7 * t).sin(),
+        pitch: -0.03 * (0.5 * t).cos(),
+        yaw: 0.1 * t.sin(),
+        velocity: [5.0 * (0.2 * t).sin(), 0.5 * (0.3 * t).cos(), -0.2],
+        rates: [
+            10.0 * (1.3 * t).sin(),
+            8.0 * (1.7 * t).cos(),
+            12.0 * (2.1 * t).sin(),
+        ],
+        controls: [
+            0.5 + 0.1 * (1.1 * t).sin(),
+            0.1 * (1.9 * t).sin(),
+            0.1 * (0.9 * t).sin(),
+            0.1 * (2.3 * t).cos(),
+        ],
+    }
+}
+
+/// Every single bit flipped in the 16-byte header, of every kind, is refused by every call
+/// with `ROTORID_E_NOT_INITIALISED`, changes nothing, and works again once flipped back.
+#[test]
+fn every_header_bit_flip_is_refused() {
+    for kind in KINDS {
+        let mut id = Prepared::new(kind);
+        assert_eq!(id.step(0), ROTORID_OK);
+        let export = id.export();
+        for bit in 0..128 {
+            id.flip(bit);
+            let damaged = id.bytes();
+            let h = id.h();
+            let s = sample(1);
+            let (mut out, mut state, mut k) = (
+                rotorid_step_output_t::default(),
+                rotorid_state_t::default(),
+                0u32,
+            );
+            let mut buf = vec![0u8; export.len()];
+            let mut len = 0usize;
+            let sigma = [0.5f32; 3];
+            // SAFETY: valid pointers; `h` points to damaged storage, which must be refused.
+            let codes = unsafe {
+                [
+                    rotorid_info(h, &mut k, null_mut(), null_mut()),
+                    rotorid_step(h, &s, &mut out, null_mut()),
+                    rotorid_resume(h, &s, &mut state, null_mut()),
+                    rotorid_predict(h, null(), &s, &mut state, null_mut()),
+                    rotorid_export(h, buf.as_mut_ptr(), buf.len(), &mut len, null_mut()),
+                    rotorid_import(h, export.as_ptr(), export.len(), null_mut()),
+                    rotorid_compensate(h, sigma.as_ptr(), null_mut(), null_mut()),
+                    rotorid_reset(h, null_mut()),
+                ]
+            };
+            assert_eq!(
+                codes, [ROTORID_E_NOT_INITIALISED; 8],
+                "kind {kind}, bit {bit}"
+            );
+            assert!(
+                id.bytes() == damaged,
+                "kind {kind}, bit {bit}: storage changed"
+            );
+            assert_eq!((k, len), (0, 0));
+            id.flip(bit);
+        }
+        assert_eq!(id.step(1), ROTORID_OK);
+    }
+}
+
+/// A storage copied to another aligned place keeps working there, with the same bits as one
+/// that never moved (the header holds no address).
+#[test]
+fn a_moved_storage_keeps_working() {
+    let mut still = Prepared::new(ROTORID_KIND_FLIGHT);
+    let mut moved = Prepared::new(ROTORID_KIND_FLIGHT);
+    for k in 0..50 {
+        assert_eq!(still.step(k), ROTORID_OK);
+        assert_eq!(moved.step(k), ROTORID_OK);
+    }
+    let mut elsewhere = Prepared {
+        storage: vec![0u64; moved.storage.len() + 3],
+        kind: moved.kind,
+    };
+    elsewhere.storage.drain(..3);
+    elsewhere.storage.copy_from_slice(&moved.storage);
+    moved.storage.fill(0);
+    for k in 50..100 {
+        assert_eq!(still.step(k), ROTORID_OK);
+        assert_eq!(elsewhere.step(k), ROTORID_OK);
+    }
+    assert_eq!(still.export(), elsewhere.export());
+}
+
+/// Every single bit flipped anywhere in an export (header, values, CRC) is refused with
+/// `ROTORID_E_INCOMPATIBLE`, and the import changes nothing; the intact export imports.
+#[test]
+fn every_export_bit_flip_is_refused() {
+    for kind in [ROTORID_KIND_PAPER_PLAIN, ROTORID_KIND_FLIGHT] {
+        let mut id = Prepared::new(kind);
+        for k in 0..100 {
+            assert_eq!(id.step(k), ROTORID_OK);
+        }
+        let mut export = id.export();
+        let mut target = Prepared::new(kind);
+        let before = target.bytes();
+        let h = target.h();
+        for bit in 0..export.len() * 8 {
+            export[bit / 8] ^= 1 << (bit % 8);
+            let mut err = rotorid_error_t::default();
+            // SAFETY: valid pointers.
+            let rc = unsafe { rotorid_import(h, export.as_ptr(), export.len(), &mut err) };
+            assert_eq!(rc, ROTORID_E_INCOMPATIBLE, "kind {kind}, bit {bit}");
+            assert!(
+                target.bytes() == before,
+                "kind {kind}, bit {bit}: storage changed"
+            );
+            export[bit / 8] ^= 1 << (bit % 8);
+        }
+        // SAFETY: valid pointers.
+        let rc = unsafe { rotorid_import(h, export.as_ptr(), export.len(), null_mut()) };
+        assert_eq!(rc, ROTORID_OK);
+        assert_eq!(target.export(), export);
+    }
+}
+
+/// A refused call writes none of its outputs (only the error detail).
+#[test]
+fn refused_calls_leave_outputs_untouched() {
+    let mut id = Prepared::new(ROTORID_KIND_FLIGHT);
+    assert_eq!(id.step(0), ROTORID_OK);
+    let h = id.h();
+    let mut bad = sample(1);
+    bad.rates[1] = f32::NAN;
+    let sentinel = rotorid_state_t {
+        velocity: [1.0, 2.0, 3.0],
+        rates: [4.0, 5.0, 6.0],
+    };
+    let mut out = rotorid_step_output_t {
+        prediction: sentinel,
+        innovation: sentinel,
+        has_innovation: 7,
+    };
+    let mut state = sentinel;
+    let mut err = rotorid_error_t::default();
+    // SAFETY: valid pointers.
+    unsafe {
+        assert_eq!(
+            rotorid_step(h, &bad, &mut out, &mut err),
+            ROTORID_E_NON_FINITE
+        );
+        assert_eq!((err.quantity, err.index), (ROTORID_QUANTITY_RATE, 1));
+        assert_eq!(
+            out,
+            rotorid_step_output_t {
+                prediction: sentinel,
+                innovation: sentinel,
+                has_innovation: 7
+            }
+        );
+        assert_eq!(
+            rotorid_resume(h, &bad, &mut state, null_mut()),
+            ROTORID_E_NON_FINITE
+        );
+        assert_eq!(
+            rotorid_predict(h, null(), &bad, &mut state, null_mut()),
+            ROTORID_E_NON_FINITE
+        );
+        assert_eq!(state, sentinel);
+        let mut late = sample(100);
+        late.time_us += 5_000_000;
+        assert_eq!(
+            rotorid_step(h, &late, &mut out, &mut err),
+            ROTORID_E_TIME_STEP
+        );
+        assert_eq!(out.has_innovation, 7);
+        let mut buf = vec![0x5au8; ROTORID_FLIGHT_EXPORT_SIZE];
+        let mut len = 12345usize;
+        let rc = rotorid_export(h, buf.as_mut_ptr(), buf.len() - 1, &mut len, null_mut());
+        assert_eq!((rc, len), (ROTORID_E_BUFFER_SIZE, 12345));
+        assert!(buf.iter().all(|&b| b == 0x5a));
+        let sigma = [f32::NAN, 0.0, 0.0];
+        let mut count = 99u32;
+        let rc = rotorid_compensate(h, sigma.as_ptr(), &mut count, &mut err);
+        assert_eq!((rc, count), (ROTORID_E_CONFIG_GYRO_NOISE, 99));
+        // On success the detail is not written.
+        let mut err = rotorid_error_t {
+            code: 77,
+            ..Default::default()
+        };
+        assert_eq!(
+            rotorid_info(h, null_mut(), null_mut(), &mut err),
+            ROTORID_OK
+        );
+        assert_eq!(err.code, 77);
+    }
+}
+
+/// Bad settings give `CONFIG_*` codes, never `OUT_OF_RANGE` with the quantity CONFIG.
+#[test]
+fn configuration_errors_have_config_codes() {
+    let mut base = rotorid_config_t::from(rotorid::HoverConfig::<f32>::default());
+    // SAFETY: valid pointer.
+    assert_eq!(unsafe { rotorid_config_default(&mut base) }, ROTORID_OK);
+    type Change = fn(&mut rotorid_config_t);
+    let cases: [(Change, i32); 6] = [
+        (|c| c.algorithm = 7, ROTORID_E_CONFIG_ALGORITHM),
+        (|c| c.scaling = 9, ROTORID_E_CONFIG_SCALING),
+        (
+            |c| c.initial_covariance = f32::NAN,
+            ROTORID_E_CONFIG_INITIAL_COVARIANCE,
+        ),
+        (|c| c.forgetting = 0.5, ROTORID_E_CONFIG_FORGETTING),
+        (|c| c.max_trace = -1.0, ROTORID_E_CONFIG_FORGETTING),
+        (
+            |c| c.period_tolerance_us = c.sample_period_us,
+            ROTORID_E_CONFIG_SAMPLE_PERIOD,
+        ),
+    ];
+    for (i, (change, code)) in cases.into_iter().enumerate() {
+        let mut c = base;
+        change(&mut c);
+        let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
+        let (mut h, mut err) = (null_mut(), rotorid_error_t::default());
+        // SAFETY: valid pointers.
+        let rc = unsafe {
+            rotorid_init_flight(
+                storage.as_mut_ptr().cast(),
+                ROTORID_FLIGHT_STORAGE_SIZE,
+                &c,
+                null(),
+                &mut h,
+                &mut err,
+            )
+        };
+        assert_eq!((rc, err.code), (code, code), "case {i}");
+        assert_ne!(err.quantity, ROTORID_QUANTITY_CONFIG, "case {i}");
+        assert!(storage.iter().all(|&w| w == 0), "case {i}: storage written");
+    }
+    let mut id = Prepared::new(ROTORID_KIND_FLIGHT);
+    for sigma in [
+        [-1.0f32, 0.0, 0.0],
+        [0.0, 2001.0, 0.0],
+        [0.0, 0.0, f32::INFINITY],
+    ] {
+        // SAFETY: valid pointers.
+        let rc = unsafe { rotorid_compensate(id.h(), sigma.as_ptr(), null_mut(), null_mut()) };
+        assert_eq!(rc, ROTORID_E_CONFIG_GYRO_NOISE);
+    }
+}
+
+/// The worked example of `docs/c-interface.md` ("The export format"): the export of a
+/// `ROTORID_KIND_PAPER_PLAIN` identifier after 20 samples, as a hex dump with the fields
+/// named. The section between its markers must be what this test prints; regenerate it with
+/// `ROTORID_BLESS=1 cargo test --manifest-path core/ffi/Cargo.toml export_format_example`.
+#[test]
+fn export_format_example() {
+    let mut id = Prepared::new(ROTORID_KIND_PAPER_PLAIN);
+    for k in 0..20 {
+        assert_eq!(id.step(k), ROTORID_OK);
+    }
+    let bytes = id.export();
+    let mut text = String::from(
+        "```text\n\
+         offset  bytes (hex)                  field\n",
+    );
+    let word =
+        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+    let hex = |at: usize, n: usize| -> String {
+        bytes[at..at + n]
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let mut line = |at: usize, n: usize, what: String| {
+        text.push_str(&format!("{at:>6}  {:<27}  {what}\n", hex(at, n)));
+    };
+    line(0, 4, String::from("magic \"RIDX\""));
+    line(4, 4, format!("format version {}", word(4)));
+    line(8, 4, format!("kind {} (ROTORID_KIND_PAPER_PLAIN)", word(8)));
+    // The sizes from the core: an estimator is algorithm, updates, θ (N), then the packed
+    // factor (N(N+1)/2, column by column: entry (i, j), i ≤ j; U-D: D on the diagonal).
+    let mut at = 12;
+    let models = ["velocity", "q̂", "r̂", "p̂"];
+    let sizes = paper_plain_sizes();
+    for (model, n) in models.iter().zip(sizes) {
+        let ud = word(at) == 1;
+        line(
+            at,
+            4,
+            format!("{model}: algorithm {} (0 covariance, 1 U-D)", word(at)),
+        );
+        line(at + 4, 4, format!("{model}: updates {}", word(at + 4)));
+        at += 8;
+        for i in 0..n {
+            line(
+                at,
+                4,
+                format!("{model}: θ[{i}] = {:e}", f32::from_bits(word(at))),
+            );
+            at += 4;
+        }
+        for j in 0..n {
+            for i in 0..=j {
+                let name = match (ud, i == j) {
+                    (true, true) => format!("D_{j}"),
+                    (true, false) => format!("U_{i}{j}"),
+                    (false, _) => format!("P_{i}{j}"),
+                };
+                let value = f32::from_bits(word(at));
+                line(at, 4, format!("{model}: {name} = {value:e}"));
+                at += 4;
+            }
+        }
+    }
+    line(
+        at,
+        4,
+        format!("CRC-32 of bytes 0..{at}: 0x{:08x}", word(at)),
+    );
+    assert_eq!(at + 4, bytes.len());
+    text.push_str("```\n");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/c-interface.md");
+    let doc = std::fs::read_to_string(path).unwrap_or_default();
+    let (begin, end) = (
+        "<!-- export example: begin -->\n",
+        "<!-- export example: end -->",
+    );
+    let (Some(b), Some(e)) = (doc.find(begin), doc.find(end)) else {
+        panic!("docs/c-interface.md has no export example markers");
+    };
+    let current = &doc[b + begin.len()..e];
+    if std::env::var_os("ROTORID_BLESS").is_some() {
+        let new = format!("{}{text}{}", &doc[..b + begin.len()], &doc[e..]);
+        std::fs::write(path, new).unwrap();
+    } else {
+        assert!(
+            current == text,
+            "docs/c-interface.md's export example is stale: ROTORID_BLESS=1 cargo test \
+             --manifest-path core/ffi/Cargo.toml export_format_example\n{text}"
+        );
+    }
+}
+
+/// N of each model of the paper's plain identifier, from the core.
+fn paper_plain_sizes() -> [usize; 4] {
+    let id =
+        rotorid::PaperPlainIdentifier::<f32>::paper_plain(rotorid::HoverConfig::default()).unwrap();
+    let mut n = [0usize; 4];
+    id.for_each_rls(|m, _, v| n[usize::from(m.index())] = v.len());
+    n
+}
