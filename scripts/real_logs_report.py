@@ -52,11 +52,15 @@ def section(log, run):
         f, h, p = flight["free_run"][i], flight["hold_free_run"][i], plain["free_run"][i]
         if f >= h:
             worse.append(AXES[i])
-        lines.append(f"| {AXES[i]} | {f:.3f} | {h:.3f} | {p:.3f} | {f / h:.2f} | {f / p:.2f} |")
+        ratio = lambda a, b: f"{a / b:.2f}" if b > 0 else "—"
+        lines.append(f"| {AXES[i]} | {f:.3f} | {h:.3f} | {p:.3f} | {ratio(f, h)} | {ratio(f, p)} |")
     lines.append("")
     verdict = m.get("verdict")
     if verdict:
-        lines.append(f"Verdict: **{verdict['model']}**; {verdict['why']}.")
+        if verdict["why"].startswith("no model beats"):
+            lines.append(f"Verdict: **no model to fly** (closest: {verdict['model']}); {verdict['why']}.")
+        else:
+            lines.append(f"Verdict: **{verdict['model']}**; {verdict['why']}.")
         lines.append("")
         for c in verdict["caveats"]:
             lines.append(f"- {c}")

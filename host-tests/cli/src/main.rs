@@ -1007,8 +1007,11 @@ fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
         }
     }
     let verdict = rotorid_cli::verdict::verdict(&results, &split.training, rate_hz);
-    if let Some(v) = &verdict {
-        print!("{}", rotorid_cli::verdict::format_verdict(v, window));
+    match &verdict {
+        Some(v) => print!("{}", rotorid_cli::verdict::format_verdict(v, window)),
+        None => println!(
+            "No verdict: no candidate model could be scored against hold (each left the sample limits in a free-run window, or a state never moved); see metrics.json, or --full"
+        ),
     }
     let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
         split.training.iter().map(Vec::as_slice).collect();

@@ -91,7 +91,13 @@ fn score(v: &VariantResult) -> Option<f64> {
     }
     let mut log_sum = 0.0;
     for i in 0..6 {
-        let r = v.free_run[i] / v.hold_free_run[i];
+        // A state that never moved (held exactly) is predicted exactly by any model that
+        // keeps it: even.
+        let r = if v.free_run[i] == 0.0 && v.hold_free_run[i] == 0.0 {
+            1.0
+        } else {
+            v.free_run[i] / v.hold_free_run[i]
+        };
         if !(r.is_finite() && r > 0.0) {
             return None;
         }

@@ -18,7 +18,7 @@ pub const MAX_VELOCITY_MPS: f64 = 100.0;
 pub const CONTROL_SLACK: f64 = 1.0;
 
 /// A collective (thrust) at or below this, normalised 0…1, is the rotor at idle: on the
-/// ground (the fallback in-air detector when the log has no land detector or arming state).
+/// ground, whatever the autopilot's land detector says (it declares a landing late).
 pub const IDLE_COLLECTIVE: f64 = 0.05;
 
 /// The rates the identification may run at (Hz), fastest first: divisors of the core's
@@ -174,28 +174,34 @@ pub fn window_cuts(from_s: Option<f64>, to_s: Option<f64>) -> Vec<Cut> {
 pub enum InAirSource {
     /// The autopilot's own land detector or arming state, logged.
     Autopilot,
-    /// The fallback: the collective at idle.
+    /// The collective at idle only (the log has no land detector or arming state).
     Data,
 }
 
-/// The ground time of a log as cuts, from the autopilot's in-air channel when the log has
-/// one, else from the data ([`InAirSource::Data`]).
+/// The ground time of a log as cuts: where the autopilot's in-air channel says so, when the
+/// log has one, and where the collective is at idle ([`InAirSource::Data`]).
 pub fn ground_cuts(ch: &Channels) -> (Vec<Cut>, InAirSource) {
-    if !ch.in_air.t.is_empty() {
-        return (autopilot_ground(&ch.in_air), InAirSource::Autopilot);
+    // The collective at idle is ground time whatever the autopilot says: its land detector
+    // declares the landing a second or two after the touchdown.
+    let idle = data_ground(ch);
+    if ch.in_air.t.is_empty() {
+        return (idle, InAirSource::Data);
     }
-    (data_ground(ch), InAirSource::Data)
+    let mut cuts = autopilot_ground(&ch.in_air);
+    cuts.extend(idle);
+    (cuts, InAirSource::Autopilot)
 }
 
 /// Stretches where the autopilot says the vehicle is on the ground (held until its next
-/// sample; before its first sample, the first sample's state).
+/// sample). Before its first sample nothing is known, and nothing is cut: an event log
+/// (DataFlash `EV`) may begin with the landing of a flight that started before the log.
 fn autopilot_ground(in_air: &Series<1>) -> Vec<Cut> {
     let mut cuts = Vec::new();
     let mut ground_from: Option<f64> = None;
-    for (k, (t, v)) in in_air.t.iter().zip(&in_air.v).enumerate() {
+    for (t, v) in in_air.t.iter().zip(&in_air.v) {
         let flying = v[0] > 0.5;
         match (flying, ground_from) {
-            (false, None) => ground_from = Some(if k == 0 { f64::NEG_INFINITY } else { *t }),
+            (false, None) => ground_from = Some(*t),
             (true, Some(from)) => {
                 cuts.push(ground(
                     from,
@@ -249,7 +255,7 @@ fn data_ground(ch: &Channels) -> Vec<Cut> {
     cuts
 }
 
-const IDLE_REASON: &str = "collective at idle: on the ground (the log has no land detector)";
+const IDLE_REASON: &str = "collective at idle (≤ 0.05): on the ground";
 
 /// A note for each time-stamp glitch of a channel.
 pub fn glitch_notes(file: &str, channel: &str, glitches: &[TimeGlitch]) -> Vec<String> {
@@ -403,8 +409,9 @@ mod tests {
         };
         let (cuts, source) = ground_cuts(&ch);
         assert_eq!(source, InAirSource::Autopilot);
+        // (No controls: no idle collective.)
         assert_eq!(cuts.len(), 2);
-        assert_eq!(cuts[0].gap, (f64::NEG_INFINITY, 2.0));
+        assert_eq!(cuts[0].gap, (0.0, 2.0));
         assert_eq!(cuts[1].gap, (8.0, f64::INFINITY));
         // No land detector: idle collective for the first 3 s and from 9 s on; a still
         // hover in between is flight.

@@ -345,7 +345,11 @@ pub fn spans(ch: &Channels, cuts: &[Cut]) -> Vec<(f64, f64)> {
     let mut out = Vec::new();
     let mut from = start;
     for (g0, g1) in gaps {
-        if g0 > from && g0 <= end {
+        // A gap (or a cut) that starts after the common span ends changes nothing.
+        if g0 >= end {
+            break;
+        }
+        if g0 > from {
             out.push((from, g0));
         }
         from = from.max(g1);
@@ -489,6 +493,19 @@ mod tests {
         assert!(seg[0].last().is_some_and(|s| s.t <= 1.0 + 1e-12));
         assert!((seg[1][0].t - 2.0).abs() < 1e-12);
         assert_eq!(seg[1].len(), 101);
+    }
+
+    /// A cut after the data (ground time after the log's last sample) leaves the data whole.
+    #[test]
+    fn a_cut_after_the_end_changes_nothing() {
+        let ts: Vec<f64> = (0..=10).map(|k| f64::from(k) * 0.1).collect();
+        let cut = Cut {
+            from_s: 1.5,
+            to_s: 9.0,
+            gap: (1.5, 9.0),
+            reason: String::new(),
+        };
+        assert_eq!(spans(&channels(&ts), &[cut]), vec![(0.0, 1.0)]);
     }
 
     #[test]

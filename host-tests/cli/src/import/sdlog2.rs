@@ -6,7 +6,7 @@
 //! | quantity | message and fields | unit |
 //! |---|---|---|
 //! | attitude | `ATT` `Roll Pitch Yaw` (ZYX Euler) | rad (yaw wrapped to (−π, π]) |
-//! | velocity | `LPOS` `VX VY VZ` (NED); else `GPOS` `VelN VelE VelD` | m/s |
+//! | velocity | `LPOS` `VX VY VZ` (NED) while `PFlg` flags it valid; else `GPOS` `VelN VelE VelD` | m/s |
 //! | body rates | `ATT` `RollRate PitchRate YawRate` (FRD) | rad/s |
 //! | controls | `ATTC` `Thrust Yaw Pitch Roll` (`actuator_controls_0` 3, 2, 1, 0) | 0…1, −1…1 |
 //! | in air | `LAND` `Landed` (in air = not landed); else `STAT` `ArmS` (2 armed, 3 armed with error) or older `Armed` (≠ 0) | 1 / 0 |
@@ -22,6 +22,9 @@ use super::ulog::read_error;
 use super::{Channels, ImportError, Series};
 
 const FORMAT: &str = "PX4 sdlog2";
+
+/// `LPOS` `PFlg` bits of a valid horizontal (2) and vertical (3) velocity.
+const VELOCITY_VALID: u32 = 0b1100;
 
 /// Whether the formats (from the first `FMT` records of a DataFlash-framed file) are an
 /// sdlog2 log's: a `TIME` message with `StartTime`, and no message with ArduPilot's `TimeUS`
@@ -44,6 +47,7 @@ pub fn is_sdlog2<'a>(
 pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>), ImportError> {
     let mut ch = Channels::default();
     let (mut lpos, mut gpos) = (Series::<3>::default(), Series::<3>::default());
+    let mut lpos_rows = 0usize;
     let (mut landed, mut armed) = (Series::<1>::default(), Series::<1>::default());
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
@@ -67,8 +71,16 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 }
             }
             "LPOS" => {
+                // Only while the estimator flags the velocity valid (`PFlg` bit 2 horizontal,
+                // bit 3 vertical); older logs without `PFlg` are taken as they are.
+                let valid = e
+                    .get("PFlg")
+                    .is_none_or(|f| (f as u32) & VELOCITY_VALID == VELOCITY_VALID);
                 if let Some(v) = e.fields(["VX", "VY", "VZ"]) {
-                    lpos.push(t, v);
+                    lpos_rows += 1;
+                    if valid {
+                        lpos.push(t, v);
+                    }
                 }
             }
             "GPOS" => {
@@ -121,6 +133,12 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         return Err(missing("attitude", "`ATT` `Roll Pitch Yaw` after a `TIME`"));
     }
     if ch.velocity_ned.t.len() < 2 {
+        if lpos_rows > 1 {
+            return Err(missing(
+                "valid velocity",
+                "`LPOS` rows with the velocity flagged valid (`PFlg` bits 2 and 3), `GPOS` `VelN VelE VelD`",
+            ));
+        }
         return Err(missing(
             "velocity",
             "`LPOS` `VX VY VZ`, `GPOS` `VelN VelE VelD`",
