@@ -16,7 +16,10 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 report=1
 [ "${2:-}" = "--no-report" ] && report=0
-rustup toolchain install nightly --profile minimal >/dev/null
+# Installed once (CI installs it first); not updated here, so that campaigns side by side do
+# not race to replace it.
+rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
+
 command -v cargo-fuzz >/dev/null 2>&1 || cargo install cargo-fuzz --locked
 all=(frame_decoder messages csv_log identifier_step parameter_import import_then_step c_interface
      ulog_log dataflash_log)
