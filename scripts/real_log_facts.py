@@ -67,6 +67,9 @@ FIXTURES = [
     "arducopter_spark404_log.bin",
     "trex550_sess005_log001.px4log",
     "trex550_sess006_log001.px4log",
+    "battery_brownout.ulg",
+    "gps_interference.ulg",
+    "sample_px4_events.ulg",
 ]
 
 ULOG_TOPICS = [
