@@ -77,7 +77,9 @@ fn main() {
              simulated X-Cell flight (envelope flights and Table 2 sweeps with new seeds, one \
              after another, each starting a new sample chain), with an hour of pilot-held hover \
              and no manoeuvre in the middle. Command: `cargo run --release -p host-tests --bin \
-             soak -- --report`.\n\n{text}"
+             soak -- --report`.\n\nLonger than CI: CI runs `host-tests/tests/soak.rs`, 90 000 \
+             steps (30 min of flight; 30 000 in debug) with the same finiteness, refusal and \
+             trace checks, and a looser parameter bound (1e4).\n\n{text}"
         );
         if let Err(e) = std::fs::write("docs/soak.md", doc) {
             eprintln!("docs/soak.md: {e}");
