@@ -7,11 +7,11 @@
 //! The header holds no address, only words that every call checks before it trusts anything
 //! else: a magic word, the kind code, the layout version and a check word (the CRC-32 of the
 //! other three and of the kind's storage size). The check word of each kind is a constant
-//! ([`CHECKS`], computed at compile time), so the check costs four comparisons; a damaged
+//! (`CHECKS`, computed at compile time), so the check costs four comparisons; a damaged
 //! header (any single bit, and all but a 2⁻³² share of other damage) returns
 //! `ROTORID_E_NOT_INITIALISED`, never a call into a wrong identifier.
 //!
-//! Dispatch is by the checked kind, through a table in the library's own memory ([`VIEWS`])
+//! Dispatch is by the checked kind, through a table in the library's own memory (`VIEWS`)
 //! that each kind's init fills with that kind's view function: a firmware that calls only
 //! `rotorid_init_flight` still links the flight identifier's code only, and a kind whose init
 //! never ran in this program is refused (`NOT_INITIALISED`) even with an intact header.

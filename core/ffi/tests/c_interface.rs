@@ -732,6 +732,22 @@ fn the_size_tables_agree() {
             "include/rotorid.h lacks {line:?} (re-bless the header)"
         );
     }
+    // The README quotes the flight default's storage and stack from the same table.
+    let flight = in_doc
+        .lines()
+        .find(|l| l.starts_with("| `ROTORID_KIND_FLIGHT`"))
+        .expect("a flight row");
+    let cells: Vec<&str> = flight.split('|').map(str::trim).collect();
+    let readme = fs::read_to_string(crate_dir().join("../../README.md")).unwrap();
+    for quoted in [
+        format!("{} B of storage", cells[2]),
+        format!("({} B)", cells[4]),
+    ] {
+        assert!(
+            readme.contains(&quoted),
+            "README.md does not quote {quoted:?} from docs/c-interface.md's size table"
+        );
+    }
 }
 
 /// docs/c-interface.md (`doc`)'s size table states each kind's stack and firmware text as
