@@ -47,35 +47,64 @@ cargo +nightly fuzz build $(flags ulog_log) >/dev/null
 # shellcheck disable=SC2046
 cargo +nightly fuzz build $(flags c_interface) c_interface >/dev/null
 status=0
+# FUZZ_JOBS=N (with FUZZ_RUNS): N processes side by side on the same corpus, seeds 1…N, each
+# FUZZ_RUNS/N executions; the row sums their executions and takes their best coverage.
+jobs="${FUZZ_JOBS:-1}"
 for t in "${targets[@]}"; do
   mkdir -p "corpus/$t"
-  log=$(mktemp)
+  extra=()
+  # Log readers: inputs up to 8 KiB hold every structure of their formats (headers,
+  # definitions, records of each kind) and keep the executions fast. The C interface: a
+  # call sequence of up to about 100 calls per input (each call copies the storage to check
+  # that a refused one changed nothing, so long sequences are slow).
+  case "$t" in
+    ulog_log | dataflash_log | csv_log) extra+=(-max_len=8192) ;;
+    c_interface) extra+=(-max_len=512) ;;
+  esac
   if [ -n "${FUZZ_RUNS:-}" ]; then
-    budget=(-runs="$FUZZ_RUNS" -seed=1)
     what="$FUZZ_RUNS runs from seed 1"
+    [ "$jobs" -gt 1 ] && what="$FUZZ_RUNS runs in $jobs processes from seeds 1 to $jobs"
   else
-    budget=(-max_total_time="$seconds")
+    jobs=1
     what="$seconds s"
   fi
-  # Log readers: inputs up to 8 KiB hold every structure of their formats (headers,
-  # definitions, records of each kind) and keep the executions fast.
-  case "$t" in
-    ulog_log | dataflash_log | csv_log) budget+=(-max_len=8192) ;;
-  esac
   start=$(date +%s)
-  # shellcheck disable=SC2046
-  if cargo +nightly fuzz run $(flags "$t") "$t" "corpus/$t" -- "${budget[@]}" \
-      -print_final_stats=1 >"$log" 2>&1; then
-    result="no crash"
-  else
-    result="**crash** (see host-tests/fuzz/artifacts/$t)"
-    status=1
-    tail -n 30 "$log" >&2
-  fi
+  logs=()
+  pids=()
+  for j in $(seq 1 "$jobs"); do
+    log=$(mktemp)
+    logs+=("$log")
+    if [ -n "${FUZZ_RUNS:-}" ]; then
+      budget=(-runs="$((FUZZ_RUNS / jobs))" -seed="$j")
+    else
+      budget=(-max_total_time="$seconds")
+    fi
+    # shellcheck disable=SC2046
+    cargo +nightly fuzz run $(flags "$t") "$t" "corpus/$t" -- "${budget[@]}" "${extra[@]}" \
+      -print_final_stats=1 >"$log" 2>&1 &
+    pids+=($!)
+  done
+  result="no crash"
+  for k in "${!pids[@]}"; do
+    if ! wait "${pids[$k]}"; then
+      result="**crash** (see host-tests/fuzz/artifacts/$t)"
+      status=1
+      tail -n 30 "${logs[$k]}" >&2
+    fi
+  done
   elapsed=$(($(date +%s) - start))
-  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
-  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | sed 's/cov: //')
-  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -n 1 | sed 's/ft: //')
+  runs=0
+  cov=0
+  ft=0
+  for log in "${logs[@]}"; do
+    r=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
+    c=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | sed 's/cov: //')
+    f=$(grep -o 'ft: [0-9]*' "$log" | tail -n 1 | sed 's/ft: //')
+    runs=$((runs + ${r:-0}))
+    [ "${c:-0}" -gt "$cov" ] && cov=$c
+    [ "${f:-0}" -gt "$ft" ] && ft=$f
+    rm -f "$log"
+  done
   echo "$t: ${runs:-?} executions in ${elapsed} s, coverage ${cov:-?} edges, ${ft:-?} features: $result"
   if [ "$report" = 1 ]; then
     # Under a lock: campaigns of different targets may run side by side.
@@ -89,7 +118,6 @@ for t in "${targets[@]}"; do
       mv "$results.new" "$results"
     ) 9>"$results.lock"
   fi
-  rm -f "$log"
 done
 cd ../..
 if [ "$report" = 1 ]; then
@@ -123,7 +151,8 @@ properties, not only the absence of panics:
   compensations: every refused call leaves every bit of the identifier as it was.
 * \`c_interface\`: random call sequences on the C interface (every kind's init, step, resume,
   export, import of hostile bytes) with random damage to the handle's storage between calls:
-  no crash, and every refused call changes no byte of the storage.
+  no crash, and every refused call changes no byte of the storage (inputs up to 512 bytes:
+  sequences of up to about 100 calls).
 * \`ulog_log\`: arbitrary bytes into the ULog reader and importer (inputs up to 8 KiB); on
   success every channel's time stamps are finite and increasing.
 * \`dataflash_log\`: arbitrary bytes into the format detection and the DataFlash and PX4
