@@ -452,24 +452,7 @@ struct Point {
 }
 
 fn finite(s: &SensorSample) -> bool {
-    [
-        s.t,
-        s.sticks.col,
-        s.sticks.ped,
-        s.sticks.lon,
-        s.sticks.lat,
-        s.roll,
-        s.pitch,
-        s.yaw,
-        s.v_north,
-        s.v_east,
-        s.v_down,
-        s.p,
-        s.q,
-        s.r,
-    ]
-    .iter()
-    .all(|v| v.is_finite())
+    crate::log::values(s).iter().all(|v| v.is_finite())
 }
 
 /// NED velocity to body FRD by the ZYX Euler rotation.

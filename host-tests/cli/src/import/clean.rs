@@ -151,20 +151,14 @@ pub fn saturate_controls(ch: &mut Channels) -> usize {
 pub fn window_cuts(from_s: Option<f64>, to_s: Option<f64>) -> Vec<Cut> {
     let mut cuts = Vec::new();
     if let Some(from) = from_s {
-        cuts.push(Cut {
-            from_s: f64::NEG_INFINITY,
-            to_s: from,
-            gap: (f64::NEG_INFINITY, from),
-            reason: format!("before --from {from} s"),
-        });
+        cuts.push(ground(
+            f64::NEG_INFINITY,
+            from,
+            &format!("before --from {from} s"),
+        ));
     }
     if let Some(to) = to_s {
-        cuts.push(Cut {
-            from_s: to,
-            to_s: f64::INFINITY,
-            gap: (to, f64::INFINITY),
-            reason: format!("after --to {to} s"),
-        });
+        cuts.push(ground(to, f64::INFINITY, &format!("after --to {to} s")));
     }
     cuts
 }
@@ -223,6 +217,7 @@ fn autopilot_ground(in_air: &Series<1>) -> Vec<Cut> {
     cuts
 }
 
+/// A cut of `[from, to]` (s) whose gap is the same stretch.
 fn ground(from: f64, to: f64, reason: &str) -> Cut {
     Cut {
         from_s: from,

@@ -247,6 +247,21 @@ pub struct Channels {
 }
 
 impl Channels {
+    /// Whether every channel has as many values as time stamps, its time stamps finite and
+    /// strictly increasing: what [`Series::push`] keeps true, and the fuzz targets check.
+    pub fn is_well_formed(&self) -> bool {
+        fn ordered<const N: usize>(s: &Series<N>) -> bool {
+            s.t.len() == s.v.len()
+                && s.t.iter().all(|t| t.is_finite())
+                && s.t.windows(2).all(|w| w[0] < w[1])
+        }
+        ordered(&self.attitude)
+            && ordered(&self.velocity_ned)
+            && ordered(&self.rates_frd)
+            && ordered(&self.controls)
+            && ordered(&self.in_air)
+    }
+
     /// The channels of samples that carry every quantity at each time stamp (a CSV log), so
     /// that a log at another rate than [`RATE_HZ`] can be put on its grid like the others.
     pub fn of_samples(samples: &[SensorSample]) -> Self {
