@@ -37,7 +37,15 @@ step_cost() {
     -kernel firmware-example/target/thumbv7em-none-eabihf/release/step-cost
 }
 worst_builtins=$(step_cost --no-default-features)
+# The Euler row alone (no quaternion row in the binary), as a firmware with one attitude form.
+euler_alone=$(step_cost --features euler-only | awk -F'|' '$2 == " FlightIdentifier " { gsub(/ /, "", $3); gsub(/ /, "", $4); print $3 " / " $4 }')
 worst=$(step_cost)
+flight_row() { awk -F'|' -v name=" $1 " '$2 == name { print $4 }' <<<"$worst"; }
+euler_worst=$(flight_row FlightIdentifier | tr -d ' ')
+quaternion_worst=$(flight_row FlightIdentifier/quaternion | tr -d ' ')
+# CPU share of a 168 MHz Cortex-M4F at a sample rate, from a worst instructions/step figure,
+# at one cycle per instruction (a lower bound: loads, divisions and flash wait states take more).
+share() { awk -v n="$1" -v hz="$2" 'BEGIN { printf "%.1f %%", 100 * n * hz / 168e6 }'; }
 hashes() { awk -F'|' '/Identifier/ { print $2, $7 }'; }
 if [ "$(hashes <<<"$worst")" != "$(hashes <<<"$worst_builtins")" ]; then
   echo "the two soft-float builds' predictions differ:" >&2
@@ -71,8 +79,26 @@ The last row is not an identifier's step: it is the one-step observer
 (\`rotorid::hover::Observer::predict\`, gain 0.5 on every state) predicting the next sample
 from the flight identifier after each of its steps, the observer alone timed (a firmware that
 wants the observer's predictions pays it on top of the step).
+The row \`FlightIdentifier/quaternion\` is the flight identifier on the same stream with each
+sample's attitude as a quaternion (\`rotorid::hover::Quaternion\`, PX4's
+\`vehicle_attitude.q\`, computed outside the timed step): its body frame needs no
+trigonometry (\`rotorid::hover::AttitudeInput\`). Its predictions differ from the Euler row's
+in their last bits only (\`core/tests/attitude.rs\` bounds the difference), hence another
+hash. A rotation matrix (ArduPilot's DCM) costs the same less the quaternion's products.
 
 ${worst}
+
+With both attitude forms in one binary LLVM inlines the two instantiations of the step
+differently; the Euler row built alone (\`--features euler-only\`, as a firmware that passes one
+form links it) is ${euler_alone} instructions (mean/worst).
+
+CPU share of one step per sample on a 168 MHz Cortex-M4F (worst case above, at one cycle per
+instruction, a lower bound: loads, divisions and flash wait states take more):
+
+| attitude | worst instructions/step | 50 Hz | 250 Hz | 1 kHz |
+|---|---:|---:|---:|---:|
+| Euler angles | ${euler_worst} | $(share "$euler_worst" 50) | $(share "$euler_worst" 250) | $(share "$euler_worst" 1000) |
+| quaternion | ${quaternion_worst} | $(share "$quaternion_worst" 50) | $(share "$quaternion_worst" 250) | $(share "$quaternion_worst" 1000) |
 
 The firmware links the \`f64\` soft-float routines of GCC's \`libgcc\` (feature
 \`libgcc-soft-float\` of \`firmware-example\`, on by default; see its \`build.rs\`): the
@@ -86,12 +112,14 @@ the table above equal those of the same binary built with \`--no-default-feature
 ${worst_builtins}
 
 Target for the flight identifier (issue 11): at most 15 000 instructions on average, on this
-stream. **Met with \`libgcc\`'s soft-float (the first table), not with \`compiler_builtins\`'**
-(the second). Either way the three \`sincosf\` of the body frame are the largest single cost
-after the U-D updates: they compute in \`f64\` soft-float, which the rule "transcendental maths
-through \`libm\`" keeps (the profile below: \`__aeabi_dmul\`, \`__aeabi_dadd\`, \`__aeabi_d2f\` and
-\`sincosf\` itself). The U-D updates (up to three rules per model, the velocity model's three
-rows each) are the largest part.
+stream: met with \`libgcc\`'s soft-float and Euler angles built alone (above), or with a
+quaternion. Target of issue 28: at most 8 000 in the worst case with a quaternion: **not met**
+(the quaternion row's worst case above). With Euler angles the three \`sincosf\` of the body
+frame are the largest single cost after the U-D updates: they compute in \`f64\` soft-float,
+which the rule "transcendental maths through \`libm\`" keeps (the profile below:
+\`__aeabi_dmul\`, \`__aeabi_dadd\`, \`__aeabi_d2f\` and \`sincosf\` itself); a quaternion
+removes them. The U-D updates (up to three rules per model, the velocity model's three rows
+each) are the largest part.
 
 ## Where the flight identifier's instructions go
 
@@ -126,6 +154,7 @@ of \`q p\` changed the model, and with it the hash, at no cost):
 | the translational model's thrust affine in the collective, \`α0\` (8 terms instead of 7; a model change: another hash) | 15 040 | 15 560 |
 | opt-level 3 for the whole firmware instead of 2 (the same bits; flash 159 KB to 179 KB) | 14 880 | 15 440 |
 | the step called from two places in this binary (its row and the observer's), so no longer inlined into the harness; the same bits | 14 560 | 15 080 |
+| the attitude as a quaternion (\`FlightIdentifier/quaternion\`: no \`sincosf\`; the last bits differ, another hash) | 11 280 | 11 800 |
 | now | see table | see table |
 
 The forward-speed firing strengths are computed once per sample (by the velocity model; the
@@ -147,7 +176,7 @@ identification core is \`rotorid\` (the identifiers' code, monomorphised for the
 four identifiers: the paper pair and the flight pair) plus \`libm\` and the \`f64\` soft-float (\`sincosf\` computes in f64; \`libgcc\`'s routines,
 named \`__aeabi_d…\`, fall in the last row) and most of \`firmware_example::ident\` (the identifiers'
 instantiation and their messages). RAM: an identifier takes its \`size_of\` (\`cargo run -p rotorid --example
-memory\`: \`FlightIdentifier<f32>\` 2 968 B, \`PaperFuzzyIdentifier<f32>\` 11 264 B) plus the
+memory\`: \`FlightIdentifier<f32>\` 2 964 B, \`PaperFuzzyIdentifier<f32>\` 11 260 B) plus the
 stack of one step (the service's peak is in the memory line above).
 
 ${by_crate}

@@ -3,7 +3,7 @@ use nalgebra::{Rotation3, Vector3};
 use rotorid::frames::{self, NedFrdSample};
 use rotorid::hover::rotor_axis;
 use rotorid::hover::SampleField;
-use rotorid::hover::{Attitude, Controls, HoverSample};
+use rotorid::hover::{Attitude, BodyFrame, Controls, HoverSample};
 use rotorid::sweep::{Channel, Sweep, SweepSchedule, C2_EXACT};
 use rotorid::{Error, HoverConfig, PaperFuzzyIdentifier, PaperPlainIdentifier, Quantity};
 
@@ -382,7 +382,12 @@ fn the_kept_sample_is_the_sample_whatever_its_time_stamp() {
             let mut s = sample(k);
             s.time_us = start + k * 20_000;
             id.step(&s).unwrap();
-            assert_eq!(id.previous_sample(), Some(s), "start {start}, sample {k}");
+            let framed = s.with_attitude(BodyFrame::of(&s.attitude));
+            assert_eq!(
+                id.previous_sample(),
+                Some(framed),
+                "start {start}, sample {k}"
+            );
         }
         // 30 ms after the last one: refused (outside 20 ± 10 ms), and nothing changed.
         let mut late = sample(3);

@@ -73,8 +73,7 @@ where
         Some(s) => {
             out.push(s.time_us);
             out.extend(s.state().to_array().iter().map(|x| u64::from(x.to_bits())));
-            let a = s.attitude;
-            out.extend([a.roll, a.pitch, a.yaw].map(|x| u64::from(x.to_bits())));
+            out.extend(s.attitude.to_array().map(|x| u64::from(x.to_bits())));
             out.extend(s.controls.to_array().map(|x| u64::from(x.to_bits())));
         }
     }

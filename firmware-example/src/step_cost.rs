@@ -9,7 +9,7 @@
 //! stream spends most of its time. Compiled in this crate, at the opt-level of the onboard
 //! identifiers.
 
-use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample, Observer};
+use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample, Observer, Quaternion};
 use rotorid::{
     Error, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
@@ -50,6 +50,14 @@ pub fn sample(k: u32) -> HoverSample<f32> {
             lat: 0.2 * s(2.9, 0.0),
         },
     }
+}
+
+/// [`sample`] with its attitude as a quaternion (PX4's form), computed outside the timed
+/// step: what a flight stack that holds a quaternion passes.
+#[inline(never)]
+pub fn quaternion_sample(k: u32) -> HoverSample<f32, Quaternion<f32>> {
+    let s = sample(k);
+    s.with_attitude(Quaternion::from_euler(&s.attitude))
 }
 
 /// One identifier's figures: mean and largest SysTick ticks per step over the measured steps.
@@ -151,13 +159,16 @@ impl Tally {
 }
 
 macro_rules! measure {
-    ($name:expr, $build:expr, $selection:expr, $timer:expr, $report:expr) => {{
+    ($name:expr, $build:expr, $selection:expr, $timer:expr, $report:expr) => {
+        measure!($name, $build, sample, $selection, $timer, $report)
+    };
+    ($name:expr, $build:expr, $sample:expr, $selection:expr, $timer:expr, $report:expr) => {{
         if $selection.includes($name) {
             let built: Result<_, Error> = $build;
             if let Ok(mut id) = built {
                 let mut tally = Tally::new();
                 for k in 0..$selection.steps {
-                    let s = sample(k);
+                    let s = $sample(k);
                     $timer.restart();
                     let out = id.step(&s);
                     let t = $timer.elapsed();
@@ -203,6 +214,7 @@ pub fn run_selected(
         timer,
         report
     );
+    quaternion_row(c, selection, timer, report);
     measure!(
         "FlightPlainIdentifier",
         FlightPlainIdentifier::flight_plain(c),
@@ -249,6 +261,31 @@ pub fn run_selected(
         flight_observer(selection.steps, timer, report);
     }
 }
+
+/// The flight identifier with quaternion attitudes ([`FLIGHT_QUATERNION`]), unless the
+/// firmware is built with its feature `euler-only` (host-tests includes this file without it).
+#[allow(unexpected_cfgs)]
+fn quaternion_row(
+    c: HoverConfig<f32>,
+    selection: Selection<'_>,
+    timer: &mut dyn Timer,
+    report: &mut dyn FnMut(&StepCost),
+) {
+    #[cfg(not(feature = "euler-only"))]
+    measure!(
+        FLIGHT_QUATERNION,
+        FlightIdentifier::flight(c, flight_sets()),
+        quaternion_sample,
+        selection,
+        timer,
+        report
+    );
+    let _ = (c, selection, timer, report);
+}
+
+/// The name of the flight identifier's row with the attitude as a quaternion
+/// ([`quaternion_sample`]): no trigonometry in the step.
+pub const FLIGHT_QUATERNION: &str = "FlightIdentifier/quaternion";
 
 /// The name of the observer's row: [`Observer::predict`] beside a learning
 /// `FlightIdentifier` (the identifier's own step is not counted).

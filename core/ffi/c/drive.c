@@ -64,6 +64,8 @@ static void sample_at(size_t k, rotorid_sample_t *s) {
     memcpy(s->velocity, &FLIGHT_BITS[k][3], 12);
     memcpy(s->rates, &FLIGHT_BITS[k][6], 12);
     memcpy(s->controls, &FLIGHT_BITS[k][9], 16);
+    s->attitude_form = ROTORID_ATTITUDE_EULER;
+    memset(s->q, 0, sizeof s->q);
 }
 
 static char *put_str(char *at, const char *s) {

@@ -237,6 +237,21 @@
 #define ROTORID_QUANTITY_CONFIG 13
 
 /**
+ * `rotorid_sample_t.attitude_form` (not a `ROTORID_ATTITUDE_*`).
+ */
+#define ROTORID_QUANTITY_ATTITUDE_FORM 14
+
+/**
+ * The attitude quaternion `q`: index 0–3 a component `[w x y z]`, 4 its norm.
+ */
+#define ROTORID_QUANTITY_QUATERNION 15
+
+/**
+ * An attitude rotation matrix (Rust callers): index `3 × row + column`, 9 its orthonormality.
+ */
+#define ROTORID_QUANTITY_MATRIX 16
+
+/**
  * A quantity the core added after this library.
  */
 #define ROTORID_QUANTITY_UNKNOWN 255
@@ -325,7 +340,7 @@
 /**
  * Storage bytes of `ROTORID_KIND_PAPER_PLAIN`.
  */
-#define ROTORID_PAPER_PLAIN_STORAGE_SIZE 888
+#define ROTORID_PAPER_PLAIN_STORAGE_SIZE 880
 
 /**
  * Storage bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
@@ -408,6 +423,16 @@
 #define ROTORID_CHANNEL_LATERAL 3
 
 /**
+ * `rotorid_sample_t.attitude_form`: ZYX Euler angles `roll`, `pitch`, `yaw`.
+ */
+#define ROTORID_ATTITUDE_EULER 0
+
+/**
+ * `rotorid_sample_t.attitude_form`: the quaternion `q`.
+ */
+#define ROTORID_ATTITUDE_QUATERNION 1
+
+/**
  * RLS covariance form: the paper's covariance propagation (packed symmetric P).
  */
 #define ROTORID_ALGORITHM_COVARIANCE 0
@@ -464,6 +489,17 @@ typedef struct {
    * Controls `[u_col u_ped u_lon u_lat]` applied from this sample to the next (−1…1).
    */
   float controls[4];
+  /**
+   * The attitude this sample carries: `ROTORID_ATTITUDE_EULER` (0, what a zero-initialised
+   * sample says: `roll`, `pitch`, `yaw`) or `ROTORID_ATTITUDE_QUATERNION` (1: `q`, no
+   * trigonometry in the step). The other attitude fields are not read.
+   */
+  uint32_t attitude_form;
+  /**
+   * Attitude quaternion `[w x y z]` rotating body forward-right-down vectors into
+   * north-east-down (PX4's `vehicle_attitude.q` as it stands); `|‖q‖² − 1| ≤ 0.01`.
+   */
+  float q[4];
 } rotorid_sample_t;
 
 /**
@@ -893,14 +929,14 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  *
  * | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
  * |---|---|---|---|---|
- * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 748 | 54 754 |
- * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 52 914 |
- * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 508 | 54 690 |
- * | `ROTORID_KIND_PAPER_PLAIN` | 888 | 128 | 2 584 | 45 322 |
+ * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 56 698 |
+ * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 55 042 |
+ * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 56 466 |
+ * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 47 122 |
  * | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
- * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 096 | 49 122 |
- * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 820 | 54 570 |
- * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 636 | 58 122 |
+ * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 51 266 |
+ * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 56 386 |
+ * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 60 290 |
  *
  * # Safety
  * `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are

@@ -32,11 +32,13 @@ pub unsafe extern "C" fn rotorid_step(
     // SAFETY: the caller's contract.
     unsafe {
         let result = (|| {
-            let sample = HoverSample::from(&get(sample)?);
+            let sample = get(sample)?;
             if out.is_null() {
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
-            let o = ident_mut(h)?.step(&sample)?;
+            // The handle before the sample's form: a damaged handle is always NOT_INITIALISED.
+            let id = ident_mut(h)?;
+            let o = id.step(&HoverSample::try_from(&sample)?)?;
             put(out, o)
         })();
         report(result, error)
@@ -66,12 +68,13 @@ pub unsafe extern "C" fn rotorid_predict(
     // SAFETY: the caller's contract.
     unsafe {
         let result = (|| {
-            let sample = HoverSample::from(&get(sample)?);
+            let sample = get(sample)?;
             let before = before.as_ref().map(HoverState::from);
             if out.is_null() {
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
-            let p = ident(h)?.predict(before.as_ref(), &sample)?;
+            let id = ident(h)?;
+            let p = id.predict(before.as_ref(), &HoverSample::try_from(&sample)?)?;
             put(out, p.into())
         })();
         report(result, error)
@@ -98,11 +101,12 @@ pub unsafe extern "C" fn rotorid_resume(
     // SAFETY: the caller's contract.
     unsafe {
         let result = (|| {
-            let sample = HoverSample::from(&get(sample)?);
+            let sample = get(sample)?;
             if out.is_null() {
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
-            let p = ident_mut(h)?.resume(&sample)?;
+            let id = ident_mut(h)?;
+            let p = id.resume(&HoverSample::try_from(&sample)?)?;
             put(out, p.into())
         })();
         report(result, error)

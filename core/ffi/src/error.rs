@@ -104,6 +104,12 @@ pub const ROTORID_QUANTITY_PARAMETER: u32 = 11;
 pub const ROTORID_QUANTITY_COVARIANCE: u32 = 12;
 /// A configuration value.
 pub const ROTORID_QUANTITY_CONFIG: u32 = 13;
+/// `rotorid_sample_t.attitude_form` (not a `ROTORID_ATTITUDE_*`).
+pub const ROTORID_QUANTITY_ATTITUDE_FORM: u32 = 14;
+/// The attitude quaternion `q`: index 0–3 a component `[w x y z]`, 4 its norm.
+pub const ROTORID_QUANTITY_QUATERNION: u32 = 15;
+/// An attitude rotation matrix (Rust callers): index `3 × row + column`, 9 its orthonormality.
+pub const ROTORID_QUANTITY_MATRIX: u32 = 16;
 /// A quantity the core added after this library.
 pub const ROTORID_QUANTITY_UNKNOWN: u32 = 255;
 
@@ -143,6 +149,15 @@ impl rotorid_error_t {
             ..Self::default()
         }
     }
+
+    /// OUT_OF_RANGE: a `rotorid_sample_t.attitude_form` that is not a `ROTORID_ATTITUDE_*`.
+    pub(crate) fn attitude_form() -> Self {
+        Self {
+            code: ROTORID_E_OUT_OF_RANGE,
+            quantity: ROTORID_QUANTITY_ATTITUDE_FORM,
+            ..Self::default()
+        }
+    }
 }
 
 fn quantity(q: Quantity) -> (u32, u32) {
@@ -155,6 +170,10 @@ fn quantity(q: Quantity) -> (u32, u32) {
             SampleField::Rate(i) => (ROTORID_QUANTITY_RATE, i.into()),
             SampleField::Control(i) => (ROTORID_QUANTITY_CONTROL, i.into()),
             SampleField::Time => (ROTORID_QUANTITY_TIME, 0),
+            SampleField::Quaternion(i) => (ROTORID_QUANTITY_QUATERNION, i.into()),
+            SampleField::QuaternionNorm => (ROTORID_QUANTITY_QUATERNION, 4),
+            SampleField::Matrix(i) => (ROTORID_QUANTITY_MATRIX, i.into()),
+            SampleField::MatrixOrthonormality => (ROTORID_QUANTITY_MATRIX, 9),
             _ => (ROTORID_QUANTITY_UNKNOWN, 0),
         },
         Quantity::Premise(i) => (ROTORID_QUANTITY_PREMISE, i.into()),

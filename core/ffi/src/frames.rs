@@ -7,7 +7,7 @@ use rotorid::frames::{state_to_ned_frd, NedFrdSample};
 use rotorid::hover::{Attitude, Controls, HoverState};
 
 use crate::error::*;
-use crate::types::{rotorid_sample_t, rotorid_state_t};
+use crate::types::{rotorid_sample_t, rotorid_state_t, ROTORID_ATTITUDE_EULER};
 
 /// One sample in the NED / FRD convention.
 #[repr(C)]
@@ -56,6 +56,8 @@ pub unsafe extern "C" fn rotorid_sample_from_ned_frd(
         velocity: s.velocity,
         rates: s.rates,
         controls: s.controls.to_array(),
+        attitude_form: ROTORID_ATTITUDE_EULER,
+        q: [0.0; 4],
     };
     ROTORID_OK
 }

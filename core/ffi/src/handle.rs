@@ -237,14 +237,14 @@ unsafe fn init<I: Build + Ident + 'static>(
 ///
 /// | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
 /// |---|---|---|---|---|
-/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 748 | 54 754 |
-/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 52 914 |
-/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 508 | 54 690 |
-/// | `ROTORID_KIND_PAPER_PLAIN` | 888 | 128 | 2 584 | 45 322 |
+/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 56 698 |
+/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 55 042 |
+/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 56 466 |
+/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 47 122 |
 /// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
-/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 096 | 49 122 |
-/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 820 | 54 570 |
-/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 636 | 58 122 |
+/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 51 266 |
+/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 56 386 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 60 290 |
 ///
 /// # Safety
 /// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are

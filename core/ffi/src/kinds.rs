@@ -3,7 +3,7 @@
 
 use core::mem::{align_of, size_of};
 
-use rotorid::hover::{flight_sets, table3, StateModel};
+use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
 use rotorid::membership::MembershipFunction;
 use rotorid::{
     Compensation, Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
@@ -43,7 +43,7 @@ pub const ROTORID_FLIGHT_PLAIN_STORAGE_SIZE: usize = 1664;
 /// Storage bytes of `ROTORID_KIND_PAPER_FUZZY`.
 pub const ROTORID_PAPER_FUZZY_STORAGE_SIZE: usize = 11280;
 /// Storage bytes of `ROTORID_KIND_PAPER_PLAIN`.
-pub const ROTORID_PAPER_PLAIN_STORAGE_SIZE: usize = 888;
+pub const ROTORID_PAPER_PLAIN_STORAGE_SIZE: usize = 880;
 /// Storage bytes of `ROTORID_KIND_EXTENDED_FUZZY`.
 pub const ROTORID_EXTENDED_FUZZY_STORAGE_SIZE: usize = 27248;
 /// Storage bytes of `ROTORID_KIND_EXTENDED_PLAIN`.
@@ -70,15 +70,19 @@ pub const ROTORID_PAPER_LOCAL_EXPORT_SIZE: usize = 1780;
 /// Export bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
 pub const ROTORID_EXTENDED_LOCAL_EXPORT_SIZE: usize = 3628;
 
+/// A sample as the C interface passes it: its attitude in the form the caller chose (one
+/// instantiation of each call per kind serves every form).
+pub(crate) type Sample = HoverSample<f32, AnyAttitude<f32>>;
+
 /// The calls the C interface makes on any identifier kind.
 pub(crate) trait Ident {
-    fn step(&mut self, s: &HoverSample<f32>) -> Result<rotorid_step_output_t, Error>;
+    fn step(&mut self, s: &Sample) -> Result<rotorid_step_output_t, Error>;
     fn predict(
         &self,
         before: Option<&HoverState<f32>>,
-        s: &HoverSample<f32>,
+        s: &Sample,
     ) -> Result<HoverState<f32>, Error>;
-    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, Error>;
+    fn resume(&mut self, s: &Sample) -> Result<HoverState<f32>, Error>;
     fn reset(&mut self);
     fn config(&self) -> HoverConfig<f32>;
     fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
@@ -108,17 +112,17 @@ where
     R: StateModel<f32, State: Wire>,
     P: StateModel<f32, State: Wire>,
 {
-    fn step(&mut self, s: &HoverSample<f32>) -> Result<rotorid_step_output_t, Error> {
+    fn step(&mut self, s: &Sample) -> Result<rotorid_step_output_t, Error> {
         HoverIdentifier::step(self, s).map(Into::into)
     }
     fn predict(
         &self,
         before: Option<&HoverState<f32>>,
-        s: &HoverSample<f32>,
+        s: &Sample,
     ) -> Result<HoverState<f32>, Error> {
         self.predict_after(before, s)
     }
-    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, Error> {
+    fn resume(&mut self, s: &Sample) -> Result<HoverState<f32>, Error> {
         HoverIdentifier::resume(self, s)
     }
     fn reset(&mut self) {

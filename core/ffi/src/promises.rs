@@ -100,6 +100,7 @@ fn sample(k: u64) -> rotorid_sample_t {
             0.1 * (0.9 * t).sin(),
             0.1 * (2.3 * t).cos(),
         ],
+        ..rotorid_sample_t::default()
     }
 }
 
@@ -281,6 +282,77 @@ fn refused_calls_leave_outputs_untouched() {
 }
 
 /// Bad settings give `CONFIG_*` codes, never `OUT_OF_RANGE` with the quantity CONFIG.
+/// A quaternion sample (`ROTORID_ATTITUDE_QUATERNION`) steps every kind exactly as the core's
+/// quaternion path does, bit for bit; a form that is not a `ROTORID_ATTITUDE_*` and a quaternion
+/// off unit norm are refused with their quantity, and change nothing.
+#[test]
+fn quaternion_samples_step_as_the_core_and_wrong_ones_are_refused() {
+    use rotorid::hover::{flight_sets, AnyAttitude, Attitude, HoverSample, Quaternion};
+    let mut core =
+        rotorid::FlightIdentifier::<f32>::flight(rotorid::HoverConfig::default(), flight_sets())
+            .expect("the flight default");
+    for kind in KINDS {
+        let mut id = Prepared::new(kind);
+        for k in 0..60 {
+            let mut s = sample(k);
+            let q = Quaternion::from_euler(&Attitude {
+                roll: s.roll,
+                pitch: s.pitch,
+                yaw: s.yaw,
+            });
+            s.attitude_form = ROTORID_ATTITUDE_QUATERNION;
+            s.q = q.to_array();
+            let mut out = rotorid_step_output_t::default();
+            // SAFETY: valid pointers.
+            let rc = unsafe { rotorid_step(id.h(), &s, &mut out, null_mut()) };
+            assert_eq!(rc, ROTORID_OK, "kind {kind}, sample {k}");
+            let taken: HoverSample<f32, AnyAttitude<f32>> =
+                HoverSample::try_from(&s).expect("a known form");
+            assert_eq!(taken.attitude, AnyAttitude::Quaternion(q));
+            if kind == ROTORID_KIND_FLIGHT {
+                // The core stepped directly with the same quaternion: the same bits.
+                let want =
+                    rotorid_step_output_t::from(core.step(&taken.with_attitude(q)).expect("legal"));
+                let bits = |o: &rotorid_step_output_t| {
+                    let p = o.prediction;
+                    [p.velocity, p.rates].map(|v| v.map(f32::to_bits))
+                };
+                assert_eq!(bits(&out), bits(&want), "sample {k}");
+            }
+        }
+        let before = id.bytes();
+        let mut bad = sample(60);
+        bad.attitude_form = 7;
+        let mut err = rotorid_error_t::default();
+        let mut out = rotorid_step_output_t::default();
+        // SAFETY: valid pointers.
+        let rc = unsafe { rotorid_step(id.h(), &bad, &mut out, &mut err) };
+        assert_eq!(
+            (rc, err.quantity),
+            (ROTORID_E_OUT_OF_RANGE, ROTORID_QUANTITY_ATTITUDE_FORM)
+        );
+        bad.attitude_form = ROTORID_ATTITUDE_QUATERNION;
+        bad.q = [1.02, 0.0, 0.0, 0.0];
+        // SAFETY: valid pointers.
+        let rc = unsafe { rotorid_step(id.h(), &bad, &mut out, &mut err) };
+        assert_eq!(
+            (rc, err.quantity, err.index),
+            (ROTORID_E_OUT_OF_RANGE, ROTORID_QUANTITY_QUATERNION, 4)
+        );
+        bad.q = [f32::NAN, 0.0, 0.0, 1.0];
+        // SAFETY: valid pointers.
+        let rc = unsafe { rotorid_step(id.h(), &bad, &mut out, &mut err) };
+        assert_eq!(
+            (rc, err.quantity, err.index),
+            (ROTORID_E_NON_FINITE, ROTORID_QUANTITY_QUATERNION, 0)
+        );
+        assert!(
+            id.bytes() == before,
+            "kind {kind}: a refused sample changed the storage"
+        );
+    }
+}
+
 #[test]
 fn configuration_errors_have_config_codes() {
     let mut base = rotorid_config_t::from(rotorid::HoverConfig::<f32>::default());

@@ -4,7 +4,7 @@
 //! pseudo-random bytes. Never in the library itself.
 //!
 //! One identifier of a kind the bytes choose, then calls until the bytes run out: steps of
-//! legal, extreme and hostile samples, with gaps; resumes, predictions, resets, compensations;
+//! legal, extreme and hostile samples (Euler angles or quaternions), with gaps; resumes, predictions, resets, compensations;
 //! exports; imports of its own export, of its export with words replaced by hostile values (the
 //! CRC made right again, so that the values reach the core's checks) and of raw bytes; damage
 //! to the storage's header (one bit, later repaired) and moves of the storage to another
@@ -86,7 +86,24 @@ fn sample(d: &mut Bytes<'_>, time_us: u64) -> rotorid_sample_t {
         velocity: [10.0 * d.unit(), 2.0 * d.unit(), 10.0 * d.unit()],
         rates: [50.0 * d.unit(), 50.0 * d.unit(), 50.0 * d.unit()],
         controls: [d.unit(), d.unit(), d.unit(), d.unit()],
+        ..rotorid_sample_t::default()
     };
+    // The attitude as a quaternion in a quarter of the samples (its components at times
+    // hostile or off unit norm), a form that does not exist now and then.
+    match d.u8() % 8 {
+        0 | 1 => {
+            s.attitude_form = ROTORID_ATTITUDE_QUATERNION;
+            let (roll, pitch, yaw) = (s.roll, s.pitch, s.yaw);
+            let q = rotorid::hover::Quaternion::from_euler(&rotorid::hover::Attitude {
+                roll,
+                pitch,
+                yaw,
+            });
+            s.q = q.to_array().map(|c| hostile(d, c));
+        }
+        2 if d.u8() < 16 => s.attitude_form = 2 + d.u32() % 8,
+        _ => {}
+    }
     match mode {
         // Every field up to its limit.
         0 => {

@@ -3,7 +3,8 @@
 //! paper's inertial axes (x east, y up, z south), body rates `[q r p]` in deg/s.
 
 use rotorid::hover::{
-    flight_sets, Attitude, Controls, HoverSample, HoverState, RegressorScaling, StepOutput,
+    flight_sets, AnyAttitude, Attitude, Controls, HoverSample, HoverState, Quaternion,
+    RegressorScaling, StepOutput,
 };
 use rotorid::rls::{Algorithm, RlsConfig};
 use rotorid::HoverConfig;
@@ -29,22 +30,46 @@ pub struct rotorid_sample_t {
     pub rates: [f32; 3],
     /// Controls `[u_col u_ped u_lon u_lat]` applied from this sample to the next (−1…1).
     pub controls: [f32; 4],
+    /// The attitude this sample carries: `ROTORID_ATTITUDE_EULER` (0, what a zero-initialised
+    /// sample says: `roll`, `pitch`, `yaw`) or `ROTORID_ATTITUDE_QUATERNION` (1: `q`, no
+    /// trigonometry in the step). The other attitude fields are not read.
+    pub attitude_form: u32,
+    /// Attitude quaternion `[w x y z]` rotating body forward-right-down vectors into
+    /// north-east-down (PX4's `vehicle_attitude.q` as it stands); `|‖q‖² − 1| ≤ 0.01`.
+    pub q: [f32; 4],
 }
 
-impl From<&rotorid_sample_t> for HoverSample<f32> {
-    fn from(s: &rotorid_sample_t) -> Self {
-        let [col, ped, lon, lat] = s.controls;
-        HoverSample {
-            time_us: s.time_us,
-            attitude: Attitude {
+/// `rotorid_sample_t.attitude_form`: ZYX Euler angles `roll`, `pitch`, `yaw`.
+pub const ROTORID_ATTITUDE_EULER: u32 = 0;
+/// `rotorid_sample_t.attitude_form`: the quaternion `q`.
+pub const ROTORID_ATTITUDE_QUATERNION: u32 = 1;
+
+impl TryFrom<&rotorid_sample_t> for HoverSample<f32, AnyAttitude<f32>> {
+    type Error = rotorid_error_t;
+
+    /// The sample, or OUT_OF_RANGE (quantity `ROTORID_QUANTITY_ATTITUDE_FORM`) for an
+    /// `attitude_form` that is not a `ROTORID_ATTITUDE_*`.
+    fn try_from(s: &rotorid_sample_t) -> Result<Self, rotorid_error_t> {
+        let attitude = match s.attitude_form {
+            ROTORID_ATTITUDE_EULER => AnyAttitude::Euler(Attitude {
                 roll: s.roll,
                 pitch: s.pitch,
                 yaw: s.yaw,
-            },
+            }),
+            ROTORID_ATTITUDE_QUATERNION => {
+                let [w, x, y, z] = s.q;
+                AnyAttitude::Quaternion(Quaternion { w, x, y, z })
+            }
+            _ => return Err(rotorid_error_t::attitude_form()),
+        };
+        let [col, ped, lon, lat] = s.controls;
+        Ok(HoverSample {
+            time_us: s.time_us,
+            attitude,
             velocity: s.velocity,
             rates: s.rates,
             controls: Controls { col, ped, lon, lat },
-        }
+        })
     }
 }
 

@@ -1,9 +1,10 @@
 //! The hover identifier: one translational and three angular models fed one sample at a time.
 
 use crate::error::{Error, Quantity};
+use crate::hover::attitude::AttitudeInput;
 use crate::hover::config::{HoverConfig, RegressorScaling};
 use crate::hover::models::{BodyFrame, Premise, SharedStrengths, StateModel};
-use crate::hover::sample::{Attitude, Controls, HoverSample, HoverState, SampleLimits};
+use crate::hover::sample::{Controls, HoverSample, HoverState, SampleLimits};
 use crate::rls::{Compensation, RlsView};
 use crate::rule_base::{same_sets, PremiseSets};
 use crate::scalar::Real;
@@ -117,7 +118,6 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
 pub(super) struct Chain<T> {
     /// The sample's time stamp (µs): high and low 32 bits.
     time_us: [u32; 2],
-    attitude: Attitude<T>,
     velocity: [T; 3],
     rates: [T; 3],
     controls: Controls<T>,
@@ -128,7 +128,7 @@ pub(super) struct Chain<T> {
 impl<T: Real> Chain<T> {
     pub(super) fn empty() -> Self {
         Self::new(
-            &HoverSample::default(),
+            &HoverSample::<T>::default(),
             BodyFrame::identity(),
             &HoverState::default(),
         )
@@ -136,11 +136,10 @@ impl<T: Real> Chain<T> {
 
     /// The chain ending at `sample` (whose body frame is `frame`), with `before` the state
     /// of the sample before it.
-    fn new(sample: &HoverSample<T>, frame: BodyFrame<T>, before: &HoverState<T>) -> Self {
+    fn new<A>(sample: &HoverSample<T, A>, frame: BodyFrame<T>, before: &HoverState<T>) -> Self {
         let t = sample.time_us;
         Self {
             time_us: [(t >> 32) as u32, t as u32],
-            attitude: sample.attitude,
             velocity: sample.velocity,
             rates: sample.rates,
             controls: sample.controls,
@@ -149,12 +148,14 @@ impl<T: Real> Chain<T> {
         }
     }
 
-    /// The sample the chain ends at.
-    fn sample(&self) -> HoverSample<T> {
+    /// The sample the chain ends at, without its attitude: the models read the chain's
+    /// [`frame`](Self::frame) instead (and a smaller copy stays in registers on an MCU).
+    #[inline(always)]
+    fn sample(&self) -> HoverSample<T, ()> {
         let [high, low] = self.time_us;
         HoverSample {
             time_us: (u64::from(high) << 32) | u64::from(low),
-            attitude: self.attitude,
+            attitude: (),
             velocity: self.velocity,
             rates: self.rates,
             controls: self.controls,
@@ -186,7 +187,7 @@ impl<T: Real> Before<T> {
 
     /// The state the models are given for the sample before `from`: the kept rates and
     /// horizontal velocity, and `from`'s own `v_y` in the slot no model reads.
-    fn state_before(&self, from: &HoverSample<T>) -> HoverState<T> {
+    fn state_before<A>(&self, from: &HoverSample<T, A>) -> HoverState<T> {
         HoverState {
             velocity: [self.v_x, from.velocity[1], self.v_z],
             rates: self.rates,
@@ -345,9 +346,12 @@ where
         }
     }
 
-    /// The sample the next step will learn from, if any.
-    pub fn previous_sample(&self) -> Option<HoverSample<T>> {
-        self.timing.chained.then(|| self.chain.sample())
+    /// The sample the next step will learn from, if any, its attitude as the body frame the
+    /// models read (whatever form the sample's attitude came in).
+    pub fn previous_sample(&self) -> Option<HoverSample<T, BodyFrame<T>>> {
+        self.timing
+            .chained
+            .then(|| self.chain.sample().with_attitude(self.chain.frame))
     }
 
     /// Takes sample k+1: learns every model from (sample k → sample k+1), then predicts the
@@ -363,7 +367,13 @@ where
     /// the U-D form's gain is bounded by `√P_ii/(2√λ)` (`P_ii` stays within its import bound),
     /// and with such parameters a prediction from a sample that passed [`SampleLimits`] is
     /// finite, so the prediction after the update cannot fail.
-    pub fn step(&mut self, sample: &HoverSample<T>) -> Result<StepOutput<T>, Error> {
+    ///
+    /// The attitude may come as Euler angles, a quaternion or a rotation matrix
+    /// ([`AttitudeInput`]); the latter two need no trigonometry.
+    pub fn step<A: AttitudeInput<T>>(
+        &mut self,
+        sample: &HoverSample<T, A>,
+    ) -> Result<StepOutput<T>, Error> {
         SampleLimits::check(sample)?;
         let mut innovation = None;
         let mut before = sample.state();
@@ -385,7 +395,7 @@ where
             innovation = Some(inn);
             before = prev.state();
         }
-        let frame = BodyFrame::of(&sample.attitude);
+        let frame = sample.attitude.frame();
         self.chain = Chain::new(sample, frame, &before);
         self.timing.chained = true;
         // The sample passed SampleLimits, which bounds every regressor, and the parameters are
@@ -403,7 +413,10 @@ where
     /// first sample of a chain (a second-order term sees no earlier sample); changes nothing.
     /// To verify a frozen model or simulate it forward, use
     /// [`predict_after`](Self::predict_after).
-    pub fn predict(&self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
+    pub fn predict<A: AttitudeInput<T>>(
+        &self,
+        sample: &HoverSample<T, A>,
+    ) -> Result<HoverState<T>, Error> {
         self.predict_after(None, sample)
     }
 
@@ -413,10 +426,10 @@ where
     /// sample before read it: the second-order term of
     /// [`RateStructure::Flight`](super::RateStructure::Flight) and the drag of
     /// [`VelocityStructure::Flight`](super::VelocityStructure::Flight). Changes nothing.
-    pub fn predict_after(
+    pub fn predict_after<A: AttitudeInput<T>>(
         &self,
         before: Option<&HoverState<T>>,
-        sample: &HoverSample<T>,
+        sample: &HoverSample<T, A>,
     ) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
         let before = match before {
@@ -426,12 +439,12 @@ where
             }
             None => sample.state(),
         };
-        self.predict_in(sample, &BodyFrame::of(&sample.attitude), &before)
+        self.predict_in(sample, &sample.attitude.frame(), &before)
     }
 
-    fn predict_in(
+    fn predict_in<A>(
         &self,
-        sample: &HoverSample<T>,
+        sample: &HoverSample<T, A>,
         frame: &BodyFrame<T>,
         before: &HoverState<T>,
     ) -> Result<HoverState<T>, Error> {
@@ -445,9 +458,9 @@ where
 
     /// [`predict_in`](Self::predict_in) from the end of the chain: the same prediction, and
     /// each model may keep what its update from `sample` at the next step reuses.
-    fn predict_keep(
+    fn predict_keep<A>(
         &mut self,
-        sample: &HoverSample<T>,
+        sample: &HoverSample<T, A>,
         frame: &BodyFrame<T>,
         before: &HoverState<T>,
     ) -> Result<HoverState<T>, Error> {
@@ -481,9 +494,12 @@ where
 
     /// Starts a new sample chain at `sample` without learning (after a gap, a time jump, or
     /// between concatenated manoeuvres). Returns the prediction from it.
-    pub fn resume(&mut self, sample: &HoverSample<T>) -> Result<HoverState<T>, Error> {
+    pub fn resume<A: AttitudeInput<T>>(
+        &mut self,
+        sample: &HoverSample<T, A>,
+    ) -> Result<HoverState<T>, Error> {
         SampleLimits::check(sample)?;
-        let frame = BodyFrame::of(&sample.attitude);
+        let frame = sample.attitude.frame();
         let prediction = self.predict_keep(sample, &frame, &sample.state())?;
         self.chain = Chain::new(sample, frame, &sample.state());
         self.timing.chained = true;

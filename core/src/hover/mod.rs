@@ -6,6 +6,7 @@
 //! | symbol | meaning | unit |
 //! |---|---|---|
 //! | φ, θ, ψ | roll, pitch, yaw (ZYX Euler angles, as PX4/ArduPilot report them) | rad |
+//! | `q = [w x y z]`, `R` | or the attitude as a unit quaternion or rotation matrix, body forward-right-down to north-east-down ([`Quaternion`], [`RotationMatrix`]: no trigonometry in the step) | — |
 //! | `v^s = [v_x v_y v_z]` | inertial velocity, x east, y up, z south | m/s |
 //! | `ω^b = [q r p]` | pitch, yaw, roll rate (conventional signs: nose up, nose right, right wing down) | deg/s |
 //! | `u = [u_col u_ped u_lon u_lat]` | normalised controls; `u_col` stands for thrust and must stay positive near hover | −1…1 |
@@ -15,6 +16,7 @@
 //! sample at step k and learns the increment `y(k+1) − y(k)` (the coefficient of the state
 //! itself is fixed at 1).
 
+mod attitude;
 mod config;
 mod identifier;
 mod models;
@@ -24,6 +26,7 @@ mod sample;
 pub mod table3;
 mod variants;
 
+pub use attitude::{AnyAttitude, Attitude, AttitudeInput, Quaternion, RotationMatrix};
 pub use config::{HoverConfig, RegressorScaling};
 pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
 pub use models::{
@@ -32,7 +35,7 @@ pub use models::{
 };
 pub use noise::RateNoise;
 pub use observer::{GainSearch, Observer};
-pub use sample::{Attitude, Controls, HoverSample, HoverState, SampleField, SampleLimits};
+pub use sample::{Controls, HoverSample, HoverState, SampleField, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,

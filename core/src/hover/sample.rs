@@ -3,19 +3,8 @@
 use core::fmt;
 
 use crate::error::{Error, Quantity};
+use crate::hover::attitude::{Attitude, AttitudeInput};
 use crate::scalar::Real;
-
-/// ZYX Euler angles (rad): roll φ, pitch θ, yaw ψ.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Attitude<T> {
-    /// Roll φ (rad), right wing down positive.
-    pub roll: T,
-    /// Pitch θ (rad), nose up positive.
-    pub pitch: T,
-    /// Yaw ψ (rad), clockwise from north seen from above.
-    pub yaw: T,
-}
 
 /// The four normalised controls (−1…1).
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -85,6 +74,16 @@ pub enum SampleField {
     Control(u8),
     /// Sample time stamp (µs).
     Time,
+    /// Component of an attitude quaternion `[w x y z]` (index 0–3).
+    Quaternion(u8),
+    /// The norm of an attitude quaternion (`|‖q‖² − 1|`, see
+    /// [`SampleLimits::QUATERNION_NORM`]).
+    QuaternionNorm,
+    /// Element of an attitude rotation matrix (index `3 × row + column`).
+    Matrix(u8),
+    /// The orthonormality of an attitude rotation matrix's columns (see
+    /// [`SampleLimits::MATRIX_ORTHONORMALITY`]).
+    MatrixOrthonormality,
 }
 
 impl fmt::Display for SampleField {
@@ -109,18 +108,29 @@ impl fmt::Display for SampleField {
                 None => write!(f, "control[{i}]"),
             },
             SampleField::Time => f.write_str("time stamp (µs)"),
+            SampleField::Quaternion(i) => match ["w", "x", "y", "z"].get(usize::from(i)) {
+                Some(a) => write!(f, "attitude quaternion {a}"),
+                None => write!(f, "attitude quaternion[{i}]"),
+            },
+            SampleField::QuaternionNorm => f.write_str("attitude quaternion norm"),
+            SampleField::Matrix(i) => write!(f, "attitude matrix R[{}][{}]", i / 3, i % 3),
+            SampleField::MatrixOrthonormality => f.write_str("attitude matrix orthonormality"),
         }
     }
 }
 
 /// One sample at time step k (paper axes and units, see [`crate::hover`]).
+///
+/// `A` is the form of the attitude: ZYX Euler angles ([`Attitude`], the default), a
+/// [`Quaternion`](crate::hover::Quaternion) or a [`RotationMatrix`](crate::hover::RotationMatrix)
+/// (both without trigonometry in the step; see [`crate::hover::AttitudeInput`]).
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct HoverSample<T> {
+pub struct HoverSample<T, A = Attitude<T>> {
     /// Time stamp (µs, monotonic). Integer so that hours of flight lose no resolution.
     pub time_us: u64,
-    /// Attitude (rad).
-    pub attitude: Attitude<T>,
+    /// Attitude.
+    pub attitude: A,
     /// Inertial velocity `v^s` (m/s).
     pub velocity: [T; 3],
     /// Body rates `[q r p]` (deg/s).
@@ -129,7 +139,7 @@ pub struct HoverSample<T> {
     pub controls: Controls<T>,
 }
 
-impl<T: Real> HoverSample<T> {
+impl<T: Real, A> HoverSample<T, A> {
     /// The measured state of this sample.
     pub fn state(&self) -> HoverState<T> {
         HoverState {
@@ -138,6 +148,19 @@ impl<T: Real> HoverSample<T> {
         }
     }
 
+    /// The same sample with another attitude (the time stamp, state and controls kept).
+    pub fn with_attitude<B>(&self, attitude: B) -> HoverSample<T, B> {
+        HoverSample {
+            time_us: self.time_us,
+            attitude,
+            velocity: self.velocity,
+            rates: self.rates,
+            controls: self.controls,
+        }
+    }
+}
+
+impl<T: Real> HoverSample<T> {
     /// The same sample in another precision, e.g. an `f32` flight log replayed in `f64`
     /// (exact from `f32` to `f64`; rounded to nearest the other way).
     pub fn cast<U: Real>(&self) -> HoverSample<U> {
@@ -184,6 +207,12 @@ impl SampleLimits {
     pub const RATE: f64 = 2000.0;
     /// Each |u_i| ≤ 1.
     pub const CONTROL: f64 = 1.0;
+    /// `|‖q‖² − 1| ≤ 0.01` for an attitude quaternion (a flight stack renormalises its
+    /// quaternion at every step; 0.01 is far beyond its rounding and short of a wrong input).
+    pub const QUATERNION_NORM: f64 = 0.01;
+    /// `|cᵢ·cⱼ − δᵢⱼ| ≤ 0.01` for the columns of an attitude rotation matrix (a DCM is
+    /// re-orthonormalised at every step).
+    pub const MATRIX_ORTHONORMALITY: f64 = 0.01;
 
     /// Checks body rates `[q r p]` (deg/s) against [`RATE`](Self::RATE).
     pub fn check_rates<T: Real>(rates: &[T; 3]) -> Result<(), Error> {
@@ -203,11 +232,8 @@ impl SampleLimits {
     }
 
     /// Checks every field of a sample: `NonFinite` for NaN/±∞, `OutOfRange` beyond the limits.
-    pub fn check<T: Real>(s: &HoverSample<T>) -> Result<(), Error> {
-        let a = &s.attitude;
-        check(a.roll, Self::ROLL, SampleField::Roll.into())?;
-        check(a.pitch, Self::PITCH, SampleField::Pitch.into())?;
-        check(a.yaw, Self::YAW, SampleField::Yaw.into())?;
+    pub fn check<T: Real, A: AttitudeInput<T>>(s: &HoverSample<T, A>) -> Result<(), Error> {
+        s.attitude.check()?;
         Self::check_state(&s.state())?;
         for (i, u) in s.controls.to_array().into_iter().enumerate() {
             check(u, Self::CONTROL, SampleField::Control(i as u8).into())?;
@@ -216,7 +242,7 @@ impl SampleLimits {
     }
 }
 
-fn check<T: Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
+pub(crate) fn check<T: Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
     if !x.is_finite() {
         Err(Error::NonFinite(q))
     } else if x.abs() > T::lit(limit) {

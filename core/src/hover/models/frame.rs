@@ -1,23 +1,29 @@
 //! The body axes of one attitude.
 
-use crate::hover::sample::Attitude;
+use crate::hover::attitude::{Attitude, Quaternion, RotationMatrix};
 use crate::scalar::Real;
 
-/// The body axes of one attitude, kept as the sines and cosines of roll, pitch and yaw: one
-/// `libm` `sincos` per angle (bit-identical to separate `sin` and `cos`), shared by both axes.
+/// The body axes of one attitude, in paper axes (x east, y up, z south): the rotor axis `j_b`,
+/// the right axis `i_b`, and the heading's sine and cosine `(sψ, cψ)`. What the models read of
+/// an attitude, whatever its form ([`AttitudeInput`](crate::hover::AttitudeInput)).
 ///
-/// The identifier computes it once per sample and keeps the previous sample's (the
-/// transcendental functions are the most expensive part of a plain step on an MCU without a
-/// double-precision FPU).
+/// From Euler angles: one `libm` `sincos` per angle (bit-identical to separate `sin` and
+/// `cos`). From a quaternion or a rotation matrix: the matrix's columns, and the heading
+/// normalised from the forward axis's horizontal part (no trigonometry). The identifier
+/// computes it once per sample and keeps the previous sample's.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BodyFrame<T> {
-    sf: T,
-    cf: T,
-    st: T,
-    ct: T,
+    up: [T; 3],
+    right: [T; 3],
     pub(super) sp: T,
     pub(super) cp: T,
 }
+
+/// Below this `cos²θ` (pitch within about 0.06° of ±90°) the heading of a quaternion or a
+/// matrix is read from the right axis: the forward axis is then vertical and its horizontal
+/// part is rounding.
+const VERTICAL_NOSE_COS2: f64 = 1e-6;
 
 impl<T: Real> BodyFrame<T> {
     /// The frame of an attitude.
@@ -32,49 +38,120 @@ impl<T: Real> BodyFrame<T> {
         let (sf, cf) = roll.sin_cos_libm();
         let (st, ct) = pitch.sin_cos_libm();
         let (sp, cp) = yaw.sin_cos_libm();
-        Self {
-            sf,
-            cf,
-            st,
-            ct,
-            sp,
-            cp,
-        }
+        Self::of_sines_cosines(sf, cf, st, ct, sp, cp)
     }
 
     /// The frame of zero roll, pitch and yaw (no trigonometry).
     #[inline]
     pub fn identity() -> Self {
         let (zero, one) = (T::zero(), T::one());
+        Self::of_sines_cosines(zero, one, zero, one, zero, one)
+    }
+
+    /// The columns of the paper's R from `(sφ, cφ, sθ, cθ, sψ, cψ)`.
+    #[inline(always)]
+    fn of_sines_cosines(sf: T, cf: T, st: T, ct: T, sp: T, cp: T) -> Self {
         Self {
-            sf: zero,
-            cf: one,
-            st: zero,
-            ct: one,
-            sp: zero,
-            cp: one,
+            up: [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp],
+            right: [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp],
+            sp,
+            cp,
         }
     }
 
-    /// `(sφ, cφ, sθ, cθ, sψ, cψ)`: what both axes are written in.
-    #[inline(always)]
-    fn sines_cosines(&self) -> (T, T, T, T, T, T) {
-        (self.sf, self.cf, self.st, self.ct, self.sp, self.cp)
+    /// The frame of a quaternion (see [`Quaternion`]): its rotation matrix's columns, without
+    /// trigonometry.
+    #[inline]
+    pub fn from_quaternion(q: &Quaternion<T>) -> Self {
+        Self::of_rows(&quaternion_rows(q))
     }
 
-    /// [`rotor_axis`] of this attitude.
+    /// The frame of a rotation matrix (see [`RotationMatrix`]).
+    #[inline]
+    pub fn from_matrix(m: &RotationMatrix<T>) -> Self {
+        Self::of_rows(&m.rows)
+    }
+
+    /// From the rows (north, east, down) of a body-FRD-to-NED matrix. Paper axes are
+    /// (east, −down, −north): up = −(down column), right = right column.
+    #[inline(always)]
+    fn of_rows(r: &[[T; 3]; 3]) -> Self {
+        let [[r00, r01, r02], [r10, r11, r12], [_, r21, r22]] = *r;
+        let (sp, cp) = heading(r00, r10, r01, r11);
+        Self {
+            up: [-r12, r22, r02],
+            right: [r11, -r21, -r01],
+            sp,
+            cp,
+        }
+    }
+
+    /// The body "up" axis `j_b` in inertial paper axes (see [`rotor_axis`]).
     #[inline]
     pub fn rotor_axis(&self) -> [T; 3] {
-        let (sf, cf, st, ct, sp, cp) = self.sines_cosines();
-        [sf * cp - cf * st * sp, cf * ct, sf * sp + cf * st * cp]
+        self.up
     }
 
-    /// [`right_axis`] of this attitude.
+    /// The body's right axis `i_b` in inertial paper axes (see [`right_axis`]).
     #[inline]
     pub fn right_axis(&self) -> [T; 3] {
-        let (sf, cf, st, ct, sp, cp) = self.sines_cosines();
-        [cf * cp + sf * st * sp, -(sf * ct), cf * sp - sf * st * cp]
+        self.right
     }
+
+    /// `[j_b, i_b, sψ, cψ]`: every value the frame holds (for bit-exact comparisons).
+    pub fn to_array(&self) -> [T; 8] {
+        let ([a, b, c], [d, e, f]) = (self.up, self.right);
+        [a, b, c, d, e, f, self.sp, self.cp]
+    }
+
+    /// `(sin ψ, cos ψ)` of the heading ψ (clockwise from north).
+    #[inline]
+    pub fn heading(&self) -> (T, T) {
+        (self.sp, self.cp)
+    }
+}
+
+/// `(sψ, cψ)` from a body-to-NED matrix: the forward axis's horizontal part `(r00, r10) =
+/// cos θ (cψ, sψ)` normalised; with the nose vertical, the right axis's `(r11, −r01)` (the
+/// heading at zero roll: at ±90° pitch only ψ ∓ φ is defined).
+#[inline(always)]
+fn heading<T: Real>(r00: T, r10: T, r01: T, r11: T) -> (T, T) {
+    let h2 = r00 * r00 + r10 * r10;
+    let (c, s, n2) = if h2 >= T::lit(VERTICAL_NOSE_COS2) {
+        (r00, r10, h2)
+    } else {
+        (r11, -r01, r11 * r11 + r01 * r01)
+    };
+    if n2 > T::zero() {
+        let n = n2.sqrt();
+        (s / n, c / n)
+    } else {
+        // Not an orthonormal matrix (refused by its check); north keeps this finite.
+        (T::zero(), T::one())
+    }
+}
+
+/// The rows of the rotation matrix of `q` (body FRD to NED), divided by `‖q‖²` so that a
+/// quaternion slightly off unit norm still gives orthonormal axes.
+#[inline(always)]
+pub(crate) fn quaternion_rows<T: Real>(q: &Quaternion<T>) -> [[T; 3]; 3] {
+    let Quaternion { w, x, y, z } = *q;
+    let n2 = w * w + x * x + y * y + z * z;
+    let one = T::one();
+    // A zero quaternion is refused by its check; `s = 0` keeps this finite anyway.
+    let s = if n2 > T::zero() {
+        T::lit(2.0) / n2
+    } else {
+        T::zero()
+    };
+    let (xx, yy, zz) = (x * x, y * y, z * z);
+    let (xy, xz, yz) = (x * y, x * z, y * z);
+    let (wx, wy, wz) = (w * x, w * y, w * z);
+    [
+        [one - s * (yy + zz), s * (xy - wz), s * (xz + wy)],
+        [s * (xy + wz), one - s * (xx + zz), s * (yz - wx)],
+        [s * (xz - wy), s * (yz + wx), one - s * (xx + yy)],
+    ]
 }
 
 /// The body "up" axis `j_b` in inertial paper axes: `R e2 = [sφcψ − cφsθsψ, cφcθ, sφsψ + cφsθcψ]`

@@ -63,6 +63,7 @@ mod frame;
 mod rate;
 mod velocity;
 
+pub(crate) use frame::quaternion_rows;
 pub use frame::{right_axis, rotor_axis, BodyFrame};
 pub use rate::{RateAxis, RateModel, RateStructure};
 pub use velocity::{VelocityModel, VelocityStructure};
@@ -109,29 +110,26 @@ pub trait StateModel<T: Real> {
     /// (`before`; `from`'s own state when there is none), for the structures that read it
     /// ([`RateStructure::Flight`]'s second-order term, [`VelocityStructure::Flight`]'s drag).
     /// [`prepare`](Self::prepare) is this with `before = from.state()`.
-    fn prepare_in(
+    ///
+    /// Only `from_frame` is read of `from`'s attitude, and nothing of `to`'s: the attitude may
+    /// come in any form.
+    fn prepare_in<A, B>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
-        to: &HoverSample<T>,
-    ) -> Result<Self::Prepared, Error> {
-        let _ = (from_frame, before);
-        self.prepare(from, to)
-    }
+        to: &HoverSample<T, B>,
+    ) -> Result<Self::Prepared, Error>;
 
     /// [`predict`](Self::predict) with `from`'s body frame already computed and the state of
     /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
-    fn predict_in(
+    fn predict_in<A>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         next: &mut HoverState<T>,
-    ) -> Result<(), Error> {
-        let _ = (from_frame, before);
-        self.predict(from, next)
-    }
+    ) -> Result<(), Error>;
 
     /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
     /// estimator may keep what the update from `from` at the next step reuses (the local
@@ -139,17 +137,14 @@ pub trait StateModel<T: Real> {
     /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)). `shared`: firing
     /// strengths another model computed at `from`, which this one takes if they are its own
     /// (see [`SharedStrengths`]).
-    fn predict_keep(
+    fn predict_keep<A>(
         &mut self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         shared: Option<&SharedStrengths<'_, T>>,
         next: &mut HoverState<T>,
-    ) -> Result<(), Error> {
-        let _ = shared;
-        self.predict_in(from, from_frame, before, next)
-    }
+    ) -> Result<(), Error>;
 
     /// The firing strengths the last [`predict_keep`](Self::predict_keep) used, to offer to
     /// the other models, if the estimator kept them (and has not learnt since).
@@ -241,7 +236,7 @@ pub enum Premise {
 impl Premise {
     /// The premise vector of sample `s` (whose body frame is `frame`).
     #[inline]
-    pub fn of<T: Real>(self, s: &HoverSample<T>, frame: &BodyFrame<T>) -> [T; 3] {
+    pub fn of<T: Real, A>(self, s: &HoverSample<T, A>, frame: &BodyFrame<T>) -> [T; 3] {
         match self {
             Self::Velocity => s.velocity,
             Self::Rates => s.rates,

@@ -212,7 +212,12 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
 
     /// [`terms`](Self::terms) with the sample's body frame already computed and the rates
     /// `[q r p]` of the sample before (deg/s).
-    pub fn terms_in(&self, s: &HoverSample<T>, frame: &BodyFrame<T>, before: &[T; 3]) -> [T; D] {
+    pub fn terms_in<A>(
+        &self,
+        s: &HoverSample<T, A>,
+        frame: &BodyFrame<T>,
+        before: &[T; 3],
+    ) -> [T; D] {
         let [q, r, p] = s.rates;
         let u = &s.controls;
         let flight = self.structure == RateStructure::Flight;
@@ -258,7 +263,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
     }
 
     /// Writes this model's rate `ω(k) + Δω̂` into `next`.
-    fn advance(&self, from: &HoverSample<T>, increment: T, next: &mut HoverState<T>) {
+    fn advance<A>(&self, from: &HoverSample<T, A>, increment: T, next: &mut HoverState<T>) {
         if let Some(slot) = next.rates.get_mut(self.axis.index()) {
             *slot = self.rate(from) + increment;
         }
@@ -303,7 +308,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
         })
     }
 
-    fn rate(&self, s: &HoverSample<T>) -> T {
+    fn rate<A>(&self, s: &HoverSample<T, A>) -> T {
         s.rates
             .get(self.axis.index())
             .copied()
@@ -332,12 +337,12 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         self.prepare_in(from, &self.frame_for(from), &from.state(), to)
     }
 
-    fn prepare_in(
+    fn prepare_in<A, B>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
-        to: &HoverSample<T>,
+        to: &HoverSample<T, B>,
     ) -> Result<Self::Prepared, Error> {
         self.ts.prepare(
             &self.premise.of(from, from_frame),
@@ -346,9 +351,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         )
     }
 
-    fn predict_in(
+    fn predict_in<A>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         next: &mut HoverState<T>,
@@ -361,9 +366,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         Ok(())
     }
 
-    fn predict_keep(
+    fn predict_keep<A>(
         &mut self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         shared: Option<&SharedStrengths<'_, T>>,

@@ -187,9 +187,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
     /// [`terms`](Self::terms) with the sample's body frame already computed and the velocity
     /// `v^s` of the sample before (m/s; only [`VelocityStructure::Flight`] reads it, and only its
     /// horizontal components).
-    pub fn terms_in(
+    pub fn terms_in<A>(
         &self,
-        s: &HoverSample<T>,
+        s: &HoverSample<T, A>,
         trig: &BodyFrame<T>,
         before: &[T; 3],
     ) -> [[T; D]; 3] {
@@ -268,12 +268,12 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         self.prepare_in(from, &BodyFrame::of(&from.attitude), &from.state(), to)
     }
 
-    fn prepare_in(
+    fn prepare_in<A, B>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
-        to: &HoverSample<T>,
+        to: &HoverSample<T, B>,
     ) -> Result<Self::Prepared, Error> {
         let [x0, y0, z0] = from.velocity;
         let [x1, y1, z1] = to.velocity;
@@ -284,9 +284,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         )
     }
 
-    fn predict_in(
+    fn predict_in<A>(
         &self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         next: &mut HoverState<T>,
@@ -299,9 +299,9 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         Ok(())
     }
 
-    fn predict_keep(
+    fn predict_keep<A>(
         &mut self,
-        from: &HoverSample<T>,
+        from: &HoverSample<T, A>,
         from_frame: &BodyFrame<T>,
         before: &HoverState<T>,
         shared: Option<&SharedStrengths<'_, T>>,
@@ -328,7 +328,7 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
 }
 
 /// `v^s(k) + Δv̂`: the predicted velocity from the predicted increments.
-fn advance<T: Real>(from: &HoverSample<T>, increments: &[T; 3]) -> [T; 3] {
+fn advance<T: Real, A>(from: &HoverSample<T, A>, increments: &[T; 3]) -> [T; 3] {
     let mut out = from.velocity;
     for (o, &d) in out.iter_mut().zip(increments.iter()) {
         *o += d;
