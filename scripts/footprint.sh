@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Prints (markdown) the flash an autopilot pays for rotorid: a minimal C firmware per kind
+# (core/ffi/c/minimal/main.c: rotorid_init_<kind> + rotorid_step, attitude as a quaternion,
+# arm-none-eabi-gcc -Os, gc-sections, the thumbv7em library at its release profile, libgcc),
+# each run under QEMU mps2-an386 (it must exit 0: every step accepted), the flight kind's
+# flash by part, and the Rust equivalent (firmware-example's `minimal` binary) at three
+# opt-levels. `scripts/cost.sh` embeds it in docs/cost.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+cargo build -q --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
+lib=core/ffi/target/thumbv7em-none-eabihf/release/librotorid_ffi.a
+kinds="flight flight_plain paper_fuzzy paper_plain extended_fuzzy extended_plain paper_local extended_local"
+echo "| kind (\`rotorid_init_<kind>\` + \`rotorid_step\`) | flash (text, B) | RAM (bss, B) | runs |"
+echo "|---|---:|---:|:-:|"
+for k in $kinds; do
+  upper=$(tr '[:lower:]' '[:upper:]' <<<"$k")
+  arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
+    -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
+    -DROTORID_MINIMAL_INIT="rotorid_init_$k" -DROTORID_MINIMAL_STORAGE="ROTORID_${upper}_STORAGE_SIZE" \
+    -I core/ffi/include core/ffi/c/minimal/main.c "$lib" -lgcc -Wl,--gc-sections -z noexecstack \
+    -L . -T core/ffi/c/firmware/link.ld -o "$out/$k.elf"
+  read -r text _ bss _ < <(arm-none-eabi-size "$out/$k.elf" | tail -1)
+  runs=no
+  if timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
+    -serial none -semihosting-config enable=on,target=native -kernel "$out/$k.elf"; then runs=yes; fi
+  echo "| \`$k\` | $text | $bss | $runs |"
+  [ "$runs" = yes ] || { echo "the minimal firmware of $k failed under QEMU" >&2; exit 1; }
+done
+echo
+echo "Flash of the flight kind's minimal C firmware by part (\`arm-none-eabi-nm -S\`, text and read-only data):"
+echo
+arm-none-eabi-nm -S -C "$out/flight.elf" | python3 -c '
+import sys, collections
+parts = [
+    ("the C interface: the calls and every method of the kind (vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
+    ("libm: sincosf and its argument reductions (Euler angles)", ("libm::math::sincos", "libm::math::rem_pio2", "libm::math::k_", "libm::math::generic::trig")),
+    ("libm: the rest (expf, sqrtf)", ("libm",)),
+    ("f64 soft-float (sincosf computes in f64)", ("__aeabi_d", "__muldf3", "__adddf3", "__aeabi_f2d", "__truncdfsf2", "__extendsfdf2", "compiler_builtins::float")),
+    ("memory routines (memcpy, memset)", ("memcpy", "memset", "memclr", "__aeabi_mem", "compiler_builtins::mem")),
+    ("the rotorid core", ("rotorid::", "<rotorid::")),
+]
+tot = collections.Counter()
+for line in sys.stdin:
+    p = line.split(None, 3)
+    if len(p) < 4 or p[2] not in "tTrRW":
+        continue
+    name = p[3].strip()
+    label = next((l for l, prefixes in parts if name.startswith(prefixes)), "start-up, vector table, main")
+    tot[label] += int(p[1], 16)
+print("| part | flash (B) |")
+print("|---|---:|")
+for label, n in tot.most_common():
+    print(f"| {label} | {n} |")
+'
+echo
+echo "The Rust equivalent (\`firmware-example\`'s \`minimal\` binary: \`FlightIdentifier::flight\` and \`step\` with quaternions, fat LTO, \`cortex-m-rt\`), at three opt-levels:"
+echo
+echo "| opt-level | flash (text, B) | runs |"
+echo "|---|---:|:-:|"
+for level in 3 s z; do
+  dir="$out/rust-$level"
+  (cd firmware-example && CARGO_PROFILE_RELEASE_OPT_LEVEL=$level CARGO_TARGET_DIR="$dir" \
+    cargo build -q --release --bin minimal --no-default-features)
+  elf="$dir/thumbv7em-none-eabihf/release/minimal"
+  read -r text _ < <(arm-none-eabi-size "$elf" | tail -1)
+  runs=no
+  if timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
+    -serial none -semihosting-config enable=on,target=native -kernel "$elf"; then runs=yes; fi
+  echo "| $level | $text | $runs |"
+done
