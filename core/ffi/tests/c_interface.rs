@@ -393,6 +393,13 @@ fn documented_program(dir: &Path) -> PathBuf {
     let e = doc.find(end).expect("c program end marker");
     let path = dir.join("documented.c");
     fs::write(&path, &doc[b..e]).unwrap();
+    // The README's quickstart compiles the same program from c/quickstart.c.
+    let quickstart = fs::read_to_string(crate_dir().join("c/quickstart.c")).unwrap();
+    assert_eq!(
+        quickstart,
+        &doc[b..e],
+        "c/quickstart.c differs from docs/c-interface.md's program"
+    );
     path
 }
 
