@@ -11,7 +11,9 @@ use rotorid::{
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
-use crate::export::{self, Wire};
+use rotorid::snapshot::{Snapshot, SnapshotState};
+
+use crate::export;
 use crate::handle::Slot;
 use crate::types::*;
 
@@ -93,20 +95,20 @@ pub(crate) trait ExportSize {
 
 impl<V, Q, R, P> ExportSize for HoverIdentifier<f32, V, Q, R, P>
 where
-    V: StateModel<f32, State: Wire>,
-    Q: StateModel<f32, State: Wire>,
-    R: StateModel<f32, State: Wire>,
-    P: StateModel<f32, State: Wire>,
+    V: StateModel<f32, State: SnapshotState>,
+    Q: StateModel<f32, State: SnapshotState>,
+    R: StateModel<f32, State: SnapshotState>,
+    P: StateModel<f32, State: SnapshotState>,
 {
-    const EXPORT_SIZE: usize = export::export_size::<V, Q, R, P>();
+    const EXPORT_SIZE: usize = <Self as Snapshot>::SNAPSHOT_SIZE;
 }
 
 impl<V, Q, R, P> Ident for HoverIdentifier<f32, V, Q, R, P>
 where
-    V: StateModel<f32, State: Wire>,
-    Q: StateModel<f32, State: Wire>,
-    R: StateModel<f32, State: Wire>,
-    P: StateModel<f32, State: Wire>,
+    V: StateModel<f32, State: SnapshotState>,
+    Q: StateModel<f32, State: SnapshotState>,
+    R: StateModel<f32, State: SnapshotState>,
+    P: StateModel<f32, State: SnapshotState>,
 {
     fn step(&mut self, s: &HoverSample<f32>) -> Result<rotorid_step_output_t, Error> {
         HoverIdentifier::step(self, s).map(Into::into)
