@@ -74,12 +74,18 @@ impl NorFlash for RamFlash {
     const WRITE_SIZE: usize = 4;
     const ERASE_SIZE: usize = 1024;
     fn erase(&mut self, from: u32, to: u32) -> Result<(), Self::Error> {
-        assert!(from.is_multiple_of(1024) && to.is_multiple_of(1024), "erase aligned");
+        assert!(
+            from.is_multiple_of(1024) && to.is_multiple_of(1024),
+            "erase aligned"
+        );
         self.0[from as usize..to as usize].fill(0xFF);
         Ok(())
     }
     fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Self::Error> {
-        assert!(offset.is_multiple_of(4) && bytes.len().is_multiple_of(4), "write aligned");
+        assert!(
+            offset.is_multiple_of(4) && bytes.len().is_multiple_of(4),
+            "write aligned"
+        );
         for (d, s) in self.0[offset as usize..].iter_mut().zip(bytes) {
             *d &= *s;
         }

@@ -194,71 +194,41 @@ fn power_cuts_never_leave_a_torn_model() {
     assert_eq!(full.done, Some(want.finish_from[RECORDS as usize]));
     let total = *ends.last().expect("records");
 
+    // The cuts are drawn up front, so that the trials are the same whatever the jobs.
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (mut torn, mut wrong_continuation, mut max_lost) = (0u64, 0u64, 0u64);
-    let (mut in_erase, mut restored_none) = (0u64, 0u64);
-    for trial in 0..trials {
-        let cut = rng.random_range(0..total);
-        erased_image(&image);
-        let first = boot(&elf, &image, Some(cut));
-        assert_eq!(
-            first.code,
-            Some(CUT_EXIT),
-            "trial {trial} (cut {cut}): {first:?}"
-        );
-        // The newest record completely written before the cut, and the one being written.
-        let complete = ends.iter().rposition(|&e| e <= cut);
-        let begun = ends
-            .iter()
-            .enumerate()
-            .find(|&(_, &e)| e > cut)
-            .map(|(s, _)| s as u64)
-            .expect("the cut is within the run");
-        let start = if begun == 0 {
-            0
-        } else {
-            ends[begun as usize - 1]
-        };
-        in_erase += u64::from(cut - start < 2048);
-        assert_eq!(
-            first.wrote.len(),
-            complete.map_or(0, |s| s + 1),
-            "trial {trial}: boot 1 reports the records completed before the cut"
-        );
-
-        let second = boot(&elf, &image, None);
-        assert_eq!(
-            second.code,
-            Some(0),
-            "trial {trial} (cut {cut}): {second:?}"
-        );
-        let restored = second.restored.map(|r| r.0);
-        let ok = match (complete, second.restored) {
-            (None, None) => second.fresh,
-            (Some(s), Some((seq, h))) => seq == s as u32 && h == want.record[s],
-            _ => false,
-        };
-        if !ok {
-            torn += 1;
-            eprintln!(
-                "trial {trial}: cut at byte {cut}: restored {restored:?}, want record {complete:?}"
-            );
-        }
-        restored_none += u64::from(restored.is_none());
-        // Records begun (0 ..= the one being cut) less records restored (0 ..= restored).
-        let lost = (begun + 1).saturating_sub(restored.map_or(0, |s| u64::from(s) + 1));
-        max_lost = max_lost.max(lost);
-        let from = restored.map_or(RECORDS as usize, |s| s as usize);
-        if second.done != Some(want.finish_from[from]) {
-            wrong_continuation += 1;
-            eprintln!("trial {trial}: cut at byte {cut}: learning on differs from the host's");
-        }
-    }
+    let cuts: Vec<u64> = (0..trials).map(|_| rng.random_range(0..total)).collect();
+    let jobs: usize = std::env::var("ROTORID_POWER_CUT_JOBS")
+        .ok()
+        .map_or(2, |t| t.parse().expect("ROTORID_POWER_CUT_JOBS: a number"))
+        .max(1);
+    let outcomes: Vec<Outcome> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..jobs)
+            .map(|j| {
+                let (elf, dir, cuts, ends, want) = (&elf, &dir, &cuts, &ends, &want);
+                scope.spawn(move || {
+                    let image = dir.join(format!("flash-{j}.bin"));
+                    (j..cuts.len())
+                        .step_by(jobs)
+                        .map(|t| trial(t, elf, &image, cuts[t], ends, want))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("trial thread"))
+            .collect()
+    });
+    let torn = outcomes.iter().filter(|o| o.torn).count();
+    let wrong_continuation = outcomes.iter().filter(|o| o.wrong_continuation).count();
+    let max_lost = outcomes.iter().map(|o| o.lost).max().unwrap_or(0);
+    let in_erase = outcomes.iter().filter(|o| o.in_erase).count();
+    let restored_none = outcomes.iter().filter(|o| o.restored.is_none()).count();
     let _ = std::fs::remove_dir_all(&dir);
     let elapsed = t0.elapsed().as_secs_f64();
     // One line for scripts/power-cut.sh.
     println!(
-        "power-cut summary: trials {trials} seed {seed} torn {torn} wrong-continuation \
+        "power-cut summary: trials {trials} seed {seed} jobs {jobs} torn {torn} wrong-continuation \
          {wrong_continuation} max-records-lost {max_lost} cuts-in-erase {in_erase} \
          restored-none {restored_none} record-bytes {} flash-bytes-per-run {total} seconds {elapsed:.1}",
         ends[0] - 2048
@@ -266,4 +236,68 @@ fn power_cuts_never_leave_a_torn_model() {
     assert_eq!(torn, 0, "restores that were not the newest complete record");
     assert_eq!(wrong_continuation, 0, "learning on from a restored record");
     assert!(max_lost <= 1, "at most the record being written is lost");
+}
+
+/// What one trial found.
+struct Outcome {
+    torn: bool,
+    wrong_continuation: bool,
+    /// Records begun before the cut that boot 2 did not restore.
+    lost: u64,
+    in_erase: bool,
+    restored: Option<u32>,
+}
+
+/// One trial: power fails after `cut` flash bytes of boot 1; boot 2 restores and learns on.
+fn trial(trial: usize, elf: &Path, image: &Path, cut: u64, ends: &[u64], want: &Replay) -> Outcome {
+    erased_image(image);
+    let first = boot(elf, image, Some(cut));
+    assert_eq!(
+        first.code,
+        Some(CUT_EXIT),
+        "trial {trial} (cut {cut}): {first:?}"
+    );
+    // The newest record completely written before the cut, and the one being written.
+    let complete = ends.iter().rposition(|&e| e <= cut);
+    let begun = ends
+        .iter()
+        .position(|&e| e > cut)
+        .expect("the cut is within the run");
+    let start = if begun == 0 { 0 } else { ends[begun - 1] };
+    assert_eq!(
+        first.wrote.len(),
+        complete.map_or(0, |s| s + 1),
+        "trial {trial}: boot 1 reports the records completed before the cut"
+    );
+    let second = boot(elf, image, None);
+    assert_eq!(
+        second.code,
+        Some(0),
+        "trial {trial} (cut {cut}): {second:?}"
+    );
+    let restored = second.restored.map(|r| r.0);
+    let ok = match (complete, second.restored) {
+        (None, None) => second.fresh,
+        (Some(s), Some((seq, h))) => seq == s as u32 && h == want.record[s],
+        _ => false,
+    };
+    if !ok {
+        eprintln!(
+            "trial {trial}: cut at byte {cut}: restored {restored:?}, want record {complete:?}"
+        );
+    }
+    let from = restored.map_or(RECORDS as usize, |s| s as usize);
+    let wrong_continuation = second.done != Some(want.finish_from[from]);
+    if wrong_continuation {
+        eprintln!("trial {trial}: cut at byte {cut}: learning on differs from the host's");
+    }
+    Outcome {
+        torn: !ok,
+        wrong_continuation,
+        // Records begun (0 ..= the one being cut) less records restored (0 ..= restored).
+        lost: (begun as u64 + 1).saturating_sub(restored.map_or(0, |s| u64::from(s) + 1)),
+        // Each record write erases its 2 KiB slot first.
+        in_erase: cut - start < 2048,
+        restored,
+    }
 }

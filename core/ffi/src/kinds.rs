@@ -11,6 +11,7 @@ use rotorid::{
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
+use rotorid::record::{self, RecordError, RecordInfo};
 use rotorid::snapshot::{Snapshot, SnapshotState};
 
 use crate::export;
@@ -86,6 +87,9 @@ pub(crate) trait Ident {
     fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
     fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
+    fn record_encode(&self, kind: u32, sequence: u32, out: &mut [u8])
+        -> Result<usize, RecordError>;
+    fn record_decode(&mut self, kind: u32, a: &[u8], b: &[u8]) -> Result<RecordInfo, RecordError>;
 }
 
 /// The export size of an identifier type.
@@ -137,6 +141,17 @@ where
     }
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
         HoverIdentifier::compensate(self, gyro_noise)
+    }
+    fn record_encode(
+        &self,
+        kind: u32,
+        sequence: u32,
+        out: &mut [u8],
+    ) -> Result<usize, RecordError> {
+        record::encode(self, kind, sequence, out)
+    }
+    fn record_decode(&mut self, kind: u32, a: &[u8], b: &[u8]) -> Result<RecordInfo, RecordError> {
+        record::decode(self, kind, a, b)
     }
 }
 
@@ -239,6 +254,13 @@ const _: () = {
 #[no_mangle]
 pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
     for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
+}
+
+/// Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus 28 bytes
+/// of record header and CRC (`docs/c-interface.md`, "Keeping the model across resets").
+#[no_mangle]
+pub extern "C" fn rotorid_record_size(kind: u32) -> usize {
+    for_kind!(kind, I => record::size_of::<I>(), _ => 0)
 }
 
 /// Bytes of an export of `kind` (0 for an unknown kind).
