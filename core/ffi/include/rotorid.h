@@ -127,6 +127,27 @@
 #define ROTORID_E_CONFIG_GYRO_NOISE 23
 
 /**
+ * Neither slot holds a valid persistence record (erased, torn, never written): start afresh.
+ */
+#define ROTORID_E_NO_RECORD 30
+
+/**
+ * The newest record is of another record format version (`found`): start afresh.
+ */
+#define ROTORID_E_RECORD_VERSION 31
+
+/**
+ * The newest record holds another identifier kind (`found`; `expected`: the handle's kind).
+ */
+#define ROTORID_E_RECORD_KIND 32
+
+/**
+ * The newest record was learnt under another configuration or other premise sets (`found`,
+ * `expected`: the configuration hashes): initialise with those, or start afresh.
+ */
+#define ROTORID_E_RECORD_CONFIG 33
+
+/**
  * An error the core added after this library (update the library).
  */
 #define ROTORID_E_UNKNOWN 99
@@ -388,6 +409,16 @@
 #define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3628
 
 /**
+ * Slot A (`rotorid_record_info_t::slot`).
+ */
+#define ROTORID_RECORD_SLOT_A 0
+
+/**
+ * Slot B (`rotorid_record_info_t::slot`).
+ */
+#define ROTORID_RECORD_SLOT_B 1
+
+/**
  * Channel: main-rotor collective `u_col`.
  */
 #define ROTORID_CHANNEL_COLLECTIVE 0
@@ -626,6 +657,24 @@ typedef struct {
    */
   float spread[3];
 } rotorid_flight_sets_t;
+
+/**
+ * Where a record is (read) or goes (write).
+ */
+typedef struct {
+  /**
+   * `ROTORID_RECORD_SLOT_A` or `ROTORID_RECORD_SLOT_B`.
+   */
+  uint32_t slot;
+  /**
+   * The record's sequence number (wraps around after 2³² − 1).
+   */
+  uint32_t sequence;
+  /**
+   * Bytes of the record (write: to program; read: 0).
+   */
+  size_t length;
+} rotorid_record_info_t;
 
 /**
  * One frequency sweep with trim pads (`rotorid::sweep::Sweep`):
@@ -1027,9 +1076,70 @@ int32_t rotorid_init_extended_local(void *storage,
 size_t rotorid_storage_size(uint32_t kind);
 
 /**
+ * Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus 28 bytes
+ * of record header and CRC (`docs/c-interface.md`, "Keeping the model across resets").
+ */
+size_t rotorid_record_size(uint32_t kind);
+
+/**
  * Bytes of an export of `kind` (0 for an unknown kind).
  */
 size_t rotorid_export_size(uint32_t kind);
+
+/**
+ * Writes the persistence record of the identifier into `buffer` and says where it goes:
+ * `info->slot`, the slot that does not hold the newest valid record (A when neither does),
+ * with `info->sequence` the sequence number after it, and `info->length` bytes
+ * (`rotorid_record_size(kind)`). Erase that slot, then program the bytes front to back; a
+ * power cut in between leaves the other slot's record intact. Then this buffer may go.
+ *
+ * `slot_a`, `slot_b`: what the slots hold now (`len_a`, `len_b` bytes; each at least the
+ * record size to be recognised), NULL for a slot known to be erased.
+ *
+ * Required: `h`, `buffer`, `info`. Optional: `slot_a`, `slot_b`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; BUFFER_SIZE (`capacity` below the record
+ * size). On success: `buffer[0 .. info->length]` and `*info`. On an error: only `*error`.
+ *
+ * # Safety
+ * `h` is NULL or a handle from `rotorid_init*`; `slot_a`, `slot_b` are NULL or valid for
+ * reads of `len_a`, `len_b` bytes; `buffer` is NULL or valid for writes of `capacity` bytes
+ * and overlaps neither slot; `info` and `error` are NULL or valid for writes.
+ */
+int32_t rotorid_record_write(const rotorid_ident_t *h,
+                             const uint8_t *slot_a,
+                             size_t len_a,
+                             const uint8_t *slot_b,
+                             size_t len_b,
+                             uint8_t *buffer,
+                             size_t capacity,
+                             rotorid_record_info_t *info,
+                             rotorid_error_t *error);
+
+/**
+ * Restores the identifier from the newest valid persistence record of the two slots: a slot
+ * that is erased, torn by a power cut or holds garbage is ignored. The record's kind,
+ * configuration hash (settings and premise sets, see `docs/c-interface.md`) and version must
+ * match, and its snapshot passes every check of `rotorid_import`, before anything is
+ * written. The sample chain restarts (the next step only anchors).
+ *
+ * `slot_a`, `slot_b`: what the slots hold (`len_a`, `len_b` bytes), NULL for a slot not read.
+ *
+ * Required: `h`. Optional: `slot_a`, `slot_b`, `info`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NO_RECORD (start afresh), RECORD_VERSION,
+ * RECORD_KIND, RECORD_CONFIG (`found`, `expected`); the codes of `rotorid_import` for a
+ * snapshot its checks refuse. On success: the identifier and `*info` (slot and sequence of
+ * the record read). On an error: only `*error`; the identifier is unchanged.
+ *
+ * # Safety
+ * As `rotorid_record_write`; `h` is NULL or a handle from `rotorid_init*`.
+ */
+int32_t rotorid_record_read(rotorid_ident_t *h,
+                            const uint8_t *slot_a,
+                            size_t len_a,
+                            const uint8_t *slot_b,
+                            size_t len_b,
+                            rotorid_record_info_t *info,
+                            rotorid_error_t *error);
 
 /**
  * Table 2's sweep for `channel` (`ROTORID_CHANNEL_*`) with amplitude A (stick units), the
