@@ -24,7 +24,7 @@
 //! writes: on any error nothing was imported.
 //!
 //! Storage: either a flash through `embedded-storage`'s [`NorFlash`]/[`ReadNorFlash`]
-//! (erase-then-write; [`write`], [`read`]: the integrator plugs in their flash driver), or two
+//! (erase-then-write; [`write()`], [`read()`]: the integrator plugs in their flash driver), or two
 //! byte slices the caller reads and programs itself ([`encode`], [`decode`], [`plan`]: the C
 //! interface's calls). The flash path streams through a 64-byte buffer; neither path holds a
 //! copy of the snapshot.
@@ -311,7 +311,11 @@ fn scan<R: ReadAt>(slot: &mut R) -> Result<Option<Header>, NorFlashErrorKind> {
     if magic.to_le_bytes() != MAGIC || !payload.is_multiple_of(4) {
         return Ok(None);
     }
-    let Some(total) = usize::try_from(payload).ok().map(size) else {
+    // Checked: a garbage length near 2³² must not wrap on a 32-bit target.
+    let Some(total) = usize::try_from(payload)
+        .ok()
+        .and_then(|p| p.checked_add(HEADER_SIZE + TRAILER_SIZE))
+    else {
         return Ok(None);
     };
     if total > len {

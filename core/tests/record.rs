@@ -308,6 +308,18 @@ fn foreign_records_are_refused_and_nothing_is_imported() {
     ));
     assert_eq!(id, before);
 
+    // A valid-looking header whose payload length is garbage (near 2³²), CRC or not.
+    for len in [u32::MAX - 3, u32::MAX - 27, 0x8000_0000, 4] {
+        let mut g = rec.clone();
+        g[20..24].copy_from_slice(&len.to_le_bytes());
+        let mut id = before.clone();
+        assert_eq!(
+            record::decode(&mut id, KIND, &g, &[]),
+            Err(RecordError::NoValidRecord)
+        );
+        assert_eq!(id, before);
+    }
+
     // Erased slots.
     let mut id = before.clone();
     assert_eq!(
