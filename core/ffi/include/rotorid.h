@@ -409,6 +409,12 @@
 #define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3628
 
 /**
+ * Bytes a persistence record adds to the export of its kind (header 24, CRC-32 4):
+ * `rotorid_record_size(kind) == rotorid_export_size(kind) + ROTORID_RECORD_OVERHEAD`.
+ */
+#define ROTORID_RECORD_OVERHEAD 28
+
+/**
  * Slot A (`rotorid_record_info_t::slot`).
  */
 #define ROTORID_RECORD_SLOT_A 0
@@ -1076,8 +1082,8 @@ int32_t rotorid_init_extended_local(void *storage,
 size_t rotorid_storage_size(uint32_t kind);
 
 /**
- * Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus 28 bytes
- * of record header and CRC (`docs/c-interface.md`, "Keeping the model across resets").
+ * Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus
+ * `ROTORID_RECORD_OVERHEAD` (`docs/c-interface.md`, "Keeping the model across resets").
  */
 size_t rotorid_record_size(uint32_t kind);
 

@@ -256,8 +256,8 @@ pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
     for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
 }
 
-/// Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus 28 bytes
-/// of record header and CRC (`docs/c-interface.md`, "Keeping the model across resets").
+/// Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus
+/// `ROTORID_RECORD_OVERHEAD` (`docs/c-interface.md`, "Keeping the model across resets").
 #[no_mangle]
 pub extern "C" fn rotorid_record_size(kind: u32) -> usize {
     for_kind!(kind, I => record::size_of::<I>(), _ => 0)

@@ -50,6 +50,8 @@ pub mod kinds;
 mod promises;
 pub mod record;
 #[cfg(test)]
+mod record_tests;
+#[cfg(test)]
 mod sequences;
 pub mod sweep;
 pub mod types;
