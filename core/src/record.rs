@@ -35,7 +35,7 @@ use crate::error::Error;
 use crate::hover::{HoverConfig, Premise, RegressorScaling};
 use crate::membership::MembershipFunction;
 use crate::rule_base::PremiseSets;
-use crate::snapshot::{CrcSink, Snapshot, WordSink, WordSource, CRC32};
+use crate::snapshot::{CrcSink, SliceSink, Snapshot, WordSink, WordSource, CRC32};
 
 /// The first four bytes of every record.
 pub const MAGIC: [u8; 4] = *b"RIDR";
@@ -343,12 +343,17 @@ fn scan<R: ReadAt>(slot: &mut R) -> Result<Option<Header>, NorFlashErrorKind> {
 
 /// The newest valid record of the two slots.
 fn newest<R: ReadAt>(a: &mut R, b: &mut R) -> Result<Option<(Slot, Header)>, NorFlashErrorKind> {
-    Ok(match (scan(a)?, scan(b)?) {
+    Ok(pick(scan(a)?, scan(b)?))
+}
+
+/// The newer of two slots' records (A on a tie, which two writes never make).
+fn pick(a: Option<Header>, b: Option<Header>) -> Option<(Slot, Header)> {
+    match (a, b) {
         (Some(x), Some(y)) if newer(y.sequence, x.sequence) => Some((Slot::B, y)),
         (Some(x), _) => Some((Slot::A, x)),
         (None, Some(y)) => Some((Slot::B, y)),
         (None, None) => None,
-    })
+    }
 }
 
 /// Checks the header of the valid record `h` that `slot` holds and imports its snapshot into
@@ -440,25 +445,9 @@ pub fn encode<I: Snapshot>(
     let out = out
         .get_mut(..needed)
         .ok_or(RecordError::BufferTooShort { needed, got })?;
-    let mut sink = SliceSink { bytes: out, at: 0 };
+    let mut sink = SliceSink::new(out);
     put_record(id, kind, sequence, &mut sink);
     Ok(needed)
-}
-
-struct SliceSink<'a> {
-    bytes: &'a mut [u8],
-    at: usize,
-}
-
-impl WordSink for SliceSink<'_> {
-    fn put_word(&mut self, word: [u8; 4]) {
-        if let Some(dst) = self.bytes.get_mut(self.at..) {
-            for (d, s) in dst.iter_mut().zip(word) {
-                *d = s;
-            }
-        }
-        self.at = self.at.saturating_add(4);
-    }
 }
 
 /// Imports the newest valid record of the two slots (`a`, `b`: their bytes; an empty slice
@@ -563,12 +552,7 @@ fn newest_flash<F: ReadNorFlash>(
 ) -> Result<Option<(Slot, Header)>, RecordError> {
     let a = scan(&mut slots.reader(flash, Slot::A)).map_err(RecordError::Storage)?;
     let b = scan(&mut slots.reader(flash, Slot::B)).map_err(RecordError::Storage)?;
-    Ok(match (a, b) {
-        (Some(x), Some(y)) if newer(y.sequence, x.sequence) => Some((Slot::B, y)),
-        (Some(x), _) => Some((Slot::A, x)),
-        (None, Some(y)) => Some((Slot::B, y)),
-        (None, None) => None,
-    })
+    Ok(pick(a, b))
 }
 
 /// Imports the newest valid record in the flash's slots into `id` (of kind `kind`, built

@@ -100,9 +100,15 @@ impl WordSource for SliceWords<'_> {
 }
 
 /// A [`WordSink`] into a byte slice: never writes past it (callers size it first).
-struct SliceSink<'a> {
+pub(crate) struct SliceSink<'a> {
     bytes: &'a mut [u8],
     at: usize,
+}
+
+impl<'a> SliceSink<'a> {
+    pub(crate) fn new(bytes: &'a mut [u8]) -> Self {
+        Self { bytes, at: 0 }
+    }
 }
 
 impl WordSink for SliceSink<'_> {
@@ -265,7 +271,7 @@ pub trait Snapshot: sealed::Sealed {
         let out = out
             .get_mut(..needed)
             .ok_or(WriteError::BufferTooShort { needed, got })?;
-        self.put_snapshot(kind, &mut SliceSink { bytes: out, at: 0 });
+        self.put_snapshot(kind, &mut SliceSink::new(out));
         Ok(needed)
     }
 
