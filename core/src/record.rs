@@ -35,7 +35,7 @@ use crate::error::Error;
 use crate::hover::{HoverConfig, Premise, RegressorScaling};
 use crate::membership::MembershipFunction;
 use crate::rule_base::PremiseSets;
-use crate::snapshot::{CrcSink, SliceSink, Snapshot, WordSink, WordSource, CRC32};
+use crate::snapshot::{CrcSink, Snapshot, WordSink, WordSource, CRC32};
 
 /// The first four bytes of every record.
 pub const MAGIC: [u8; 4] = *b"RIDR";
@@ -356,14 +356,8 @@ fn pick(a: Option<Header>, b: Option<Header>) -> Option<(Slot, Header)> {
     }
 }
 
-/// Checks the header of the valid record `h` that `slot` holds and imports its snapshot into
-/// `id`; returns its sequence number.
-fn import_checked<R: ReadAt, I: Snapshot>(
-    slot: &mut R,
-    h: Header,
-    id: &mut I,
-    kind: u32,
-) -> Result<u32, RecordError> {
+/// `h`'s version, kind and configuration hash are this build's, `kind` and `config_hash`.
+fn check_header(h: &Header, kind: u32, config_hash: u32) -> Result<(), RecordError> {
     if h.version != VERSION {
         return Err(RecordError::WrongVersion { found: h.version });
     }
@@ -373,13 +367,24 @@ fn import_checked<R: ReadAt, I: Snapshot>(
             expected: kind,
         });
     }
-    let expected = id.config_hash();
-    if h.hash != expected {
+    if h.hash != config_hash {
         return Err(RecordError::WrongConfiguration {
             found: h.hash,
-            expected,
+            expected: config_hash,
         });
     }
+    Ok(())
+}
+
+/// Checks the header of the valid record `h` that `slot` holds and imports its snapshot into
+/// `id`; returns its sequence number.
+fn import_checked<R: ReadAt, I: Snapshot>(
+    slot: &mut R,
+    h: Header,
+    id: &mut I,
+    kind: u32,
+) -> Result<u32, RecordError> {
+    check_header(&h, kind, id.config_hash())?;
     if h.payload != I::SNAPSHOT_SIZE {
         return Err(RecordError::Refused(Error::Incompatible));
     }
@@ -440,14 +445,86 @@ pub fn encode<I: Snapshot>(
     sequence: u32,
     out: &mut [u8],
 ) -> Result<usize, RecordError> {
-    let needed = size_of::<I>();
     let got = out.len();
+    let needed = size_of::<I>();
+    let payload = out
+        .get_mut(HEADER_SIZE..)
+        .ok_or(RecordError::BufferTooShort { needed, got })?;
+    let n = id
+        .write_snapshot(kind, payload)
+        .map_err(|_| RecordError::BufferTooShort { needed, got })?;
+    seal(out, kind, id.config_hash(), sequence, n)
+}
+
+/// Frames a snapshot into a record, in place: `out[HEADER_SIZE .. HEADER_SIZE + payload]`
+/// already holds the snapshot (of kind `kind`, configuration hash `config_hash`); writes the
+/// header before it and the CRC after it. Returns the record's length. For callers that
+/// reach their identifier through its snapshot bytes only (the C interface): [`encode`] is
+/// this with the snapshot written by [`Snapshot::write_snapshot`].
+pub fn seal(
+    out: &mut [u8],
+    kind: u32,
+    config_hash: u32,
+    sequence: u32,
+    payload: usize,
+) -> Result<usize, RecordError> {
+    let got = out.len();
+    let needed = size(payload);
     let out = out
         .get_mut(..needed)
         .ok_or(RecordError::BufferTooShort { needed, got })?;
-    let mut sink = SliceSink::new(out);
-    put_record(id, kind, sequence, &mut sink);
+    let length = u32::try_from(payload).map_err(|_| RecordError::Layout)?;
+    let header = [
+        u32::from_le_bytes(MAGIC),
+        VERSION,
+        kind,
+        config_hash,
+        sequence,
+        length,
+    ];
+    for (d, w) in out.chunks_exact_mut(4).zip(header) {
+        for (d, s) in d.iter_mut().zip(w.to_le_bytes()) {
+            *d = s;
+        }
+    }
+    let body = needed - TRAILER_SIZE;
+    let (body, trailer) = out.split_at_mut_checked(body).ok_or(RecordError::Layout)?;
+    for (d, s) in trailer.iter_mut().zip(CRC32.checksum(body).to_le_bytes()) {
+        *d = s;
+    }
     Ok(needed)
+}
+
+/// The snapshot of the newest valid record of the two slots (`a`, `b`: their bytes; an empty
+/// slice for a slot not read), after checking its version, kind and configuration hash
+/// against `kind` and `config_hash`; import it with [`Snapshot::read_snapshot`] (which checks
+/// every value before it writes). For callers that reach their identifier through its
+/// snapshot bytes only (the C interface): [`decode`] is this followed by the import.
+pub fn open<'s>(
+    a: &'s [u8],
+    b: &'s [u8],
+    kind: u32,
+    config_hash: u32,
+) -> Result<(RecordInfo, &'s [u8]), RecordError> {
+    let (mut ra, mut rb) = (a, b);
+    let (slot, h) = newest(&mut ra, &mut rb)
+        .map_err(RecordError::Storage)?
+        .ok_or(RecordError::NoValidRecord)?;
+    check_header(&h, kind, config_hash)?;
+    let bytes = match slot {
+        Slot::A => a,
+        Slot::B => b,
+    };
+    let payload = bytes
+        .get(HEADER_SIZE..HEADER_SIZE + h.payload)
+        .ok_or(RecordError::NoValidRecord)?;
+    Ok((
+        RecordInfo {
+            slot,
+            sequence: h.sequence,
+        },
+        payload,
+    ))
 }
 
 /// Imports the newest valid record of the two slots (`a`, `b`: their bytes; an empty slice
@@ -459,15 +536,10 @@ pub fn decode<I: Snapshot>(
     a: &[u8],
     b: &[u8],
 ) -> Result<RecordInfo, RecordError> {
-    let (mut a, mut b) = (a, b);
-    let (slot, h) = newest(&mut a, &mut b)
-        .map_err(RecordError::Storage)?
-        .ok_or(RecordError::NoValidRecord)?;
-    let r = match slot {
-        Slot::A => &mut a,
-        Slot::B => &mut b,
-    };
-    import_checked(r, h, id, kind).map(|sequence| RecordInfo { slot, sequence })
+    let (info, payload) = open(a, b, kind, id.config_hash())?;
+    id.read_snapshot(kind, payload)
+        .map_err(RecordError::Refused)?;
+    Ok(info)
 }
 
 // ---- A NOR flash ---------------------------------------------------------------------------

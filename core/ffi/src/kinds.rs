@@ -11,7 +11,7 @@ use rotorid::{
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
-use rotorid::record::{self, RecordError, RecordInfo};
+use rotorid::record;
 use rotorid::snapshot::{Snapshot, SnapshotState};
 
 use crate::export;
@@ -87,9 +87,7 @@ pub(crate) trait Ident {
     fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
     fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
-    fn record_encode(&self, kind: u32, sequence: u32, out: &mut [u8])
-        -> Result<usize, RecordError>;
-    fn record_decode(&mut self, kind: u32, a: &[u8], b: &[u8]) -> Result<RecordInfo, RecordError>;
+    fn config_hash(&self) -> u32;
 }
 
 /// The export size of an identifier type.
@@ -142,16 +140,8 @@ where
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
         HoverIdentifier::compensate(self, gyro_noise)
     }
-    fn record_encode(
-        &self,
-        kind: u32,
-        sequence: u32,
-        out: &mut [u8],
-    ) -> Result<usize, RecordError> {
-        record::encode(self, kind, sequence, out)
-    }
-    fn record_decode(&mut self, kind: u32, a: &[u8], b: &[u8]) -> Result<RecordInfo, RecordError> {
-        record::decode(self, kind, a, b)
+    fn config_hash(&self) -> u32 {
+        Snapshot::config_hash(self)
     }
 }
 

@@ -123,7 +123,14 @@ pub unsafe extern "C" fn rotorid_record_write(
             let id = ident(h)?;
             let plan = record::plan(slot(slot_a, len_a), slot(slot_b, len_b));
             let out = core::slice::from_raw_parts_mut(buffer, capacity);
-            let n = id.record_encode(kind, plan.sequence, out)?;
+            // The export between header and CRC: the export's own code, no second encoder.
+            let payload = out
+                .get_mut(record::HEADER_SIZE..)
+                .ok_or(rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
+            let n = id
+                .export(kind, payload)
+                .map_err(|()| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
+            let n = record::seal(out, kind, id.config_hash(), plan.sequence, n)?;
             put(info, self::info(plan, n))
         })();
         report(result, error)
@@ -161,7 +168,10 @@ pub unsafe extern "C" fn rotorid_record_read(
         let result = (|| {
             let kind = kind_of(h)?;
             let (a, b) = (slot(slot_a, len_a), slot(slot_b, len_b));
-            let read = ident_mut(h)?.record_decode(kind, a, b)?;
+            let id = ident_mut(h)?;
+            let (read, payload) = record::open(a, b, kind, id.config_hash())?;
+            // The export's import: every check before anything is written.
+            id.import(kind, payload)?;
             if !info.is_null() {
                 put(info, self::info(read, 0))?;
             }
