@@ -363,3 +363,37 @@ fn slots_that_do_not_fit_the_flash_are_refused() {
     }
     assert!(flash.0.iter().all(|&b| b == 0xFF), "nothing written");
 }
+
+#[test]
+fn open_gives_the_snapshot_and_seal_frames_it() {
+    let id = learnt(0, 120);
+    let size = record::size_of::<FlightIdentifier<f32>>();
+    let mut rec = vec![0u8; size];
+    assert_eq!(record::encode(&id, KIND, 9, &mut rec), Ok(size));
+    let (info, payload) = record::open(&rec, &[], KIND, id.config_hash()).unwrap();
+    assert_eq!(
+        info,
+        RecordInfo {
+            slot: Slot::A,
+            sequence: 9
+        }
+    );
+    assert_eq!(payload, &bytes_of(&id)[..]);
+    // Framing the same snapshot by hand gives the same bytes.
+    let mut framed = vec![0u8; size];
+    framed[record::HEADER_SIZE..size - record::TRAILER_SIZE].copy_from_slice(payload);
+    let n = record::seal(&mut framed, KIND, id.config_hash(), 9, payload.len());
+    assert_eq!(n, Ok(size));
+    assert_eq!(framed, rec);
+    assert_eq!(
+        record::seal(&mut framed[..size - 1], KIND, 0, 0, payload.len()),
+        Err(RecordError::BufferTooShort {
+            needed: size,
+            got: size - 1
+        })
+    );
+    assert!(matches!(
+        record::open(&rec, &[], KIND, id.config_hash() ^ 1),
+        Err(RecordError::WrongConfiguration { .. })
+    ));
+}
