@@ -29,9 +29,11 @@ pub mod learning;
 pub mod local;
 pub mod membership;
 pub mod premise;
+pub mod record;
 pub mod rls;
 pub mod rule_base;
 pub mod scalar;
+pub mod snapshot;
 pub mod sweep;
 pub mod ts;
 

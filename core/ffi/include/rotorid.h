@@ -127,6 +127,27 @@
 #define ROTORID_E_CONFIG_GYRO_NOISE 23
 
 /**
+ * Neither slot holds a valid persistence record (erased, torn, never written): start afresh.
+ */
+#define ROTORID_E_NO_RECORD 30
+
+/**
+ * The newest record is of another record format version (`found`): start afresh.
+ */
+#define ROTORID_E_RECORD_VERSION 31
+
+/**
+ * The newest record holds another identifier kind (`found`; `expected`: the handle's kind).
+ */
+#define ROTORID_E_RECORD_KIND 32
+
+/**
+ * The newest record was learnt under another configuration or other premise sets (`found`,
+ * `expected`: the configuration hashes): initialise with those, or start afresh.
+ */
+#define ROTORID_E_RECORD_CONFIG 33
+
+/**
  * An error the core added after this library (update the library).
  */
 #define ROTORID_E_UNKNOWN 99
@@ -403,6 +424,22 @@
 #define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3628
 
 /**
+ * Bytes a persistence record adds to the export of its kind (header 24, CRC-32 4):
+ * `rotorid_record_size(kind) == rotorid_export_size(kind) + ROTORID_RECORD_OVERHEAD`.
+ */
+#define ROTORID_RECORD_OVERHEAD 28
+
+/**
+ * Slot A (`rotorid_record_info_t::slot`).
+ */
+#define ROTORID_RECORD_SLOT_A 0
+
+/**
+ * Slot B (`rotorid_record_info_t::slot`).
+ */
+#define ROTORID_RECORD_SLOT_B 1
+
+/**
  * Channel: main-rotor collective `u_col`.
  */
 #define ROTORID_CHANNEL_COLLECTIVE 0
@@ -662,6 +699,24 @@ typedef struct {
    */
   float spread[3];
 } rotorid_flight_sets_t;
+
+/**
+ * Where a record is (read) or goes (write).
+ */
+typedef struct {
+  /**
+   * `ROTORID_RECORD_SLOT_A` or `ROTORID_RECORD_SLOT_B`.
+   */
+  uint32_t slot;
+  /**
+   * The record's sequence number (wraps around after 2³² − 1).
+   */
+  uint32_t sequence;
+  /**
+   * Bytes of the record (write: to program; read: 0).
+   */
+  size_t length;
+} rotorid_record_info_t;
 
 /**
  * One frequency sweep with trim pads (`rotorid::sweep::Sweep`):
@@ -929,14 +984,14 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  *
  * | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
  * |---|---|---|---|---|
- * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 56 698 |
- * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 55 042 |
- * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 56 466 |
- * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 47 122 |
+ * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 57 874 |
+ * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 56 210 |
+ * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 57 634 |
+ * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 48 290 |
  * | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
- * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 51 266 |
- * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 56 386 |
- * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 60 290 |
+ * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 52 418 |
+ * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 57 562 |
+ * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 61 458 |
  *
  * # Safety
  * `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
@@ -1063,9 +1118,70 @@ int32_t rotorid_init_extended_local(void *storage,
 size_t rotorid_storage_size(uint32_t kind);
 
 /**
+ * Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus
+ * `ROTORID_RECORD_OVERHEAD` (`docs/c-interface.md`, "Keeping the model across resets").
+ */
+size_t rotorid_record_size(uint32_t kind);
+
+/**
  * Bytes of an export of `kind` (0 for an unknown kind).
  */
 size_t rotorid_export_size(uint32_t kind);
+
+/**
+ * Writes the persistence record of the identifier into `buffer` and says where it goes:
+ * `info->slot`, the slot that does not hold the newest valid record (A when neither does),
+ * with `info->sequence` the sequence number after it, and `info->length` bytes
+ * (`rotorid_record_size(kind)`). Erase that slot, then program the bytes front to back; a
+ * power cut in between leaves the other slot's record intact. Then this buffer may go.
+ *
+ * `slot_a`, `slot_b`: what the slots hold now (`len_a`, `len_b` bytes; each at least the
+ * record size to be recognised), NULL for a slot known to be erased.
+ *
+ * Required: `h`, `buffer`, `info`. Optional: `slot_a`, `slot_b`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; BUFFER_SIZE (`capacity` below the record
+ * size). On success: `buffer[0 .. info->length]` and `*info`. On an error: only `*error`.
+ *
+ * # Safety
+ * `h` is NULL or a handle from `rotorid_init*`; `slot_a`, `slot_b` are NULL or valid for
+ * reads of `len_a`, `len_b` bytes; `buffer` is NULL or valid for writes of `capacity` bytes
+ * and overlaps neither slot; `info` and `error` are NULL or valid for writes.
+ */
+int32_t rotorid_record_write(const rotorid_ident_t *h,
+                             const uint8_t *slot_a,
+                             size_t len_a,
+                             const uint8_t *slot_b,
+                             size_t len_b,
+                             uint8_t *buffer,
+                             size_t capacity,
+                             rotorid_record_info_t *info,
+                             rotorid_error_t *error);
+
+/**
+ * Restores the identifier from the newest valid persistence record of the two slots: a slot
+ * that is erased, torn by a power cut or holds garbage is ignored. The record's kind,
+ * configuration hash (settings and premise sets, see `docs/c-interface.md`) and version must
+ * match, and its snapshot passes every check of `rotorid_import`, before anything is
+ * written. The sample chain restarts (the next step only anchors).
+ *
+ * `slot_a`, `slot_b`: what the slots hold (`len_a`, `len_b` bytes), NULL for a slot not read.
+ *
+ * Required: `h`. Optional: `slot_a`, `slot_b`, `info`, `error`.
+ * Codes: OK; NULL, MISALIGNED, NOT_INITIALISED; NO_RECORD (start afresh), RECORD_VERSION,
+ * RECORD_KIND, RECORD_CONFIG (`found`, `expected`); the codes of `rotorid_import` for a
+ * snapshot its checks refuse. On success: the identifier and `*info` (slot and sequence of
+ * the record read). On an error: only `*error`; the identifier is unchanged.
+ *
+ * # Safety
+ * As `rotorid_record_write`; `h` is NULL or a handle from `rotorid_init*`.
+ */
+int32_t rotorid_record_read(rotorid_ident_t *h,
+                            const uint8_t *slot_a,
+                            size_t len_a,
+                            const uint8_t *slot_b,
+                            size_t len_b,
+                            rotorid_record_info_t *info,
+                            rotorid_error_t *error);
 
 /**
  * Table 2's sweep for `channel` (`ROTORID_CHANNEL_*`) with amplitude A (stick units), the

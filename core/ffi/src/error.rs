@@ -57,6 +57,17 @@ pub const ROTORID_E_CONFIG_ALGORITHM: i32 = 21;
 pub const ROTORID_E_CONFIG_SCALING: i32 = 22;
 /// A gyro noise σ given to `rotorid_compensate` is not finite, or not in [0, 2000] deg/s.
 pub const ROTORID_E_CONFIG_GYRO_NOISE: i32 = 23;
+// --- `rotorid::record::RecordError` (rotorid_record_read) ---
+/// Neither slot holds a valid persistence record (erased, torn, never written): start afresh.
+pub const ROTORID_E_NO_RECORD: i32 = 30;
+/// The newest record is of another record format version (`found`): start afresh.
+pub const ROTORID_E_RECORD_VERSION: i32 = 31;
+/// The newest record holds another identifier kind (`found`; `expected`: the handle's kind).
+pub const ROTORID_E_RECORD_KIND: i32 = 32;
+/// The newest record was learnt under another configuration or other premise sets (`found`,
+/// `expected`: the configuration hashes): initialise with those, or start afresh.
+pub const ROTORID_E_RECORD_CONFIG: i32 = 33;
+
 /// An error the core added after this library (update the library).
 pub const ROTORID_E_UNKNOWN: i32 = 99;
 
@@ -292,6 +303,10 @@ pub extern "C" fn rotorid_error_name(code: i32) -> *const core::ffi::c_char {
         ROTORID_E_CONFIG_ALGORITHM => c"ROTORID_E_CONFIG_ALGORITHM",
         ROTORID_E_CONFIG_SCALING => c"ROTORID_E_CONFIG_SCALING",
         ROTORID_E_CONFIG_GYRO_NOISE => c"ROTORID_E_CONFIG_GYRO_NOISE",
+        ROTORID_E_NO_RECORD => c"ROTORID_E_NO_RECORD",
+        ROTORID_E_RECORD_VERSION => c"ROTORID_E_RECORD_VERSION",
+        ROTORID_E_RECORD_KIND => c"ROTORID_E_RECORD_KIND",
+        ROTORID_E_RECORD_CONFIG => c"ROTORID_E_RECORD_CONFIG",
         ROTORID_E_UNKNOWN => c"ROTORID_E_UNKNOWN",
         ROTORID_E_NULL => c"ROTORID_E_NULL",
         ROTORID_E_MISALIGNED => c"ROTORID_E_MISALIGNED",

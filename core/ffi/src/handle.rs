@@ -237,14 +237,14 @@ unsafe fn init<I: Build + Ident + 'static>(
 ///
 /// | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
 /// |---|---|---|---|---|
-/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 56 698 |
-/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 55 042 |
-/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 56 466 |
-/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 47 122 |
+/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 57 874 |
+/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 56 210 |
+/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 57 634 |
+/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 48 290 |
 /// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
-/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 51 266 |
-/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 56 386 |
-/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 60 290 |
+/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 52 418 |
+/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 57 562 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 61 458 |
 ///
 /// # Safety
 /// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are

@@ -11,7 +11,10 @@ use rotorid::{
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
-use crate::export::{self, Wire};
+use rotorid::record;
+use rotorid::snapshot::{Snapshot, SnapshotState};
+
+use crate::export;
 use crate::handle::Slot;
 use crate::types::*;
 
@@ -88,6 +91,7 @@ pub(crate) trait Ident {
     fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
     fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
+    fn config_hash(&self) -> u32;
 }
 
 /// The export size of an identifier type.
@@ -97,20 +101,20 @@ pub(crate) trait ExportSize {
 
 impl<V, Q, R, P> ExportSize for HoverIdentifier<f32, V, Q, R, P>
 where
-    V: StateModel<f32, State: Wire>,
-    Q: StateModel<f32, State: Wire>,
-    R: StateModel<f32, State: Wire>,
-    P: StateModel<f32, State: Wire>,
+    V: StateModel<f32, State: SnapshotState>,
+    Q: StateModel<f32, State: SnapshotState>,
+    R: StateModel<f32, State: SnapshotState>,
+    P: StateModel<f32, State: SnapshotState>,
 {
-    const EXPORT_SIZE: usize = export::export_size::<V, Q, R, P>();
+    const EXPORT_SIZE: usize = <Self as Snapshot>::SNAPSHOT_SIZE;
 }
 
 impl<V, Q, R, P> Ident for HoverIdentifier<f32, V, Q, R, P>
 where
-    V: StateModel<f32, State: Wire>,
-    Q: StateModel<f32, State: Wire>,
-    R: StateModel<f32, State: Wire>,
-    P: StateModel<f32, State: Wire>,
+    V: StateModel<f32, State: SnapshotState>,
+    Q: StateModel<f32, State: SnapshotState>,
+    R: StateModel<f32, State: SnapshotState>,
+    P: StateModel<f32, State: SnapshotState>,
 {
     fn step(&mut self, s: &Sample) -> Result<rotorid_step_output_t, Error> {
         HoverIdentifier::step(self, s).map(Into::into)
@@ -139,6 +143,9 @@ where
     }
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
         HoverIdentifier::compensate(self, gyro_noise)
+    }
+    fn config_hash(&self) -> u32 {
+        Snapshot::config_hash(self)
     }
 }
 
@@ -241,6 +248,13 @@ const _: () = {
 #[no_mangle]
 pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
     for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
+}
+
+/// Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus
+/// `ROTORID_RECORD_OVERHEAD` (`docs/c-interface.md`, "Keeping the model across resets").
+#[no_mangle]
+pub extern "C" fn rotorid_record_size(kind: u32) -> usize {
+    for_kind!(kind, I => record::size_of::<I>(), _ => 0)
 }
 
 /// Bytes of an export of `kind` (0 for an unknown kind).

@@ -48,6 +48,9 @@ pub mod handle;
 pub mod kinds;
 #[cfg(test)]
 mod promises;
+pub mod record;
+#[cfg(test)]
+mod record_tests;
 #[cfg(test)]
 mod sequences;
 pub mod sweep;
@@ -59,6 +62,7 @@ pub use export::*;
 pub use frames::*;
 pub use handle::*;
 pub use kinds::*;
+pub use record::*;
 pub use sweep::*;
 pub use types::*;
 

@@ -29,13 +29,13 @@ const KINDS: [u32; 8] = [
 ];
 
 /// An identifier of `kind` in storage of its own (8-byte words: aligned).
-struct Prepared {
+pub(crate) struct Prepared {
     storage: Vec<u64>,
-    kind: u32,
+    pub(crate) kind: u32,
 }
 
 impl Prepared {
-    fn new(kind: u32) -> Self {
+    pub(crate) fn new(kind: u32) -> Self {
         let size = rotorid_storage_size(kind);
         let mut storage = vec![0u64; size.div_ceil(8)];
         let mut h = null_mut();
@@ -54,23 +54,23 @@ impl Prepared {
         assert_eq!(rc, ROTORID_OK);
         Self { storage, kind }
     }
-    fn h(&mut self) -> *mut rotorid_ident_t {
+    pub(crate) fn h(&mut self) -> *mut rotorid_ident_t {
         self.storage.as_mut_ptr().cast()
     }
-    fn bytes(&self) -> Vec<u8> {
+    pub(crate) fn bytes(&self) -> Vec<u8> {
         self.storage.iter().flat_map(|w| w.to_le_bytes()).collect()
     }
     fn flip(&mut self, bit: usize) {
         let word = &mut self.storage[bit / 64];
         *word ^= 1 << (bit % 64);
     }
-    fn step(&mut self, k: u64) -> i32 {
+    pub(crate) fn step(&mut self, k: u64) -> i32 {
         let s = sample(k);
         let mut out = rotorid_step_output_t::default();
         // SAFETY: valid pointers.
         unsafe { rotorid_step(self.h(), &s, &mut out, null_mut()) }
     }
-    fn export(&mut self) -> Vec<u8> {
+    pub(crate) fn export(&mut self) -> Vec<u8> {
         let mut buf = vec![0u8; rotorid_export_size(self.kind)];
         let mut len = 0;
         // SAFETY: valid pointers.
@@ -81,7 +81,7 @@ impl Prepared {
     }
 }
 
-fn sample(k: u64) -> rotorid_sample_t {
+pub(crate) fn sample(k: u64) -> rotorid_sample_t {
     let t = k as f32 * 0.02;
     rotorid_sample_t {
         time_us: 1_000_000 + 20_000 * k,
