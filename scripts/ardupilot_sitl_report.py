@@ -105,7 +105,15 @@ def main():
            "and the collective (`RATE` `AOut`); the SystemID chirps are added at the mixer, so they",
            "are in those outputs. ArduPilot's SITL helicopter is a simplified rigid-body model",
            "written by ArduPilot, not a flight test: these numbers say how rotorid does on logs",
-           "written by a real flight stack flying closed loop, not on a real airframe.", ""]
+           "written by a real flight stack flying closed loop, not on a real airframe.", "",
+           "Logging for identification on ArduCopter 4.7 (from its source at the commit in the",
+           "README; the rates below each log's heading are what the import measured):",
+           "`LOG_BITMASK` bit 0 (ATTITUDE_FAST) writes `ANG` (attitude) and `RATE` (rates, rate",
+           "outputs, collective `AOut`) every main-loop cycle (400 Hz on a helicopter);",
+           "`LOG_FILE_RATEMAX` caps every streaming message (50 here, the fastest rate rotorid",
+           "identifies at). The EKF velocity `XKF1` is written by the 25 Hz logging task whatever",
+           "the bitmask, so an ArduCopter log is identified at 25 Hz at most; `ATT`, `CTUN`, `RCOU`",
+           "are 10 Hz.", ""]
     for r in runs:
         log, run = r.split("|", 1)
         out += section(log, run)
