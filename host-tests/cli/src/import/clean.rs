@@ -299,7 +299,9 @@ pub fn rate_advice(format: super::LogFormat) -> &'static str {
             "PX4: set SDLOG_PROFILE bit 3 (system identification) or bit 4 (high rate) to log attitude, rates and setpoints faster"
         }
         super::LogFormat::DataFlash => {
-            "ArduPilot: set LOG_BITMASK bit 0 (ATTITUDE_FAST) to log ATT and RATE at the loop rate"
+            "ArduPilot: set LOG_BITMASK bit 0 (ATTITUDE_FAST) to log the attitude (ANG from 4.7 on, \
+             else ATT) and RATE at the loop rate (LOG_FILE_RATEMAX caps them) and the EKF \
+             velocity (XKF1) at 25 Hz, the most ArduCopter logs it at"
         }
         super::LogFormat::Sdlog2 => {
             "PX4 sdlog2: start the logger at a higher rate (`sdlog2 start -r 100`)"

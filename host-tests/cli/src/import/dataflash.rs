@@ -4,15 +4,23 @@
 //!
 //! | quantity | message and fields | unit in the log → here |
 //! |---|---|---|
-//! | attitude | `ATT` `Roll Pitch Yaw` (ZYX Euler, yaw 0…360) | deg → rad, yaw wrapped to (−π, π] |
+//! | attitude | `ANG` `Roll Pitch Yaw` (ArduPilot 4.7 on), else `ATT` `Roll Pitch Yaw` (ZYX Euler, yaw 0…360) | deg → rad, yaw wrapped to (−π, π] |
 //! | velocity | `XKF1` `VN VE VD` (EKF3, core `C` = 0); older logs `NKF1` (EKF2) | m/s |
 //! | body rates | `RATE` `R P Y` (the rate controller's measured rates, FRD) | deg/s → rad/s |
-//! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + `CTUN` `ThO` (collective, 0…1, held) | — |
+//! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + collective `RATE` `AOut` (0…1; else `CTUN` `ThO`, held) | — |
 //! | in air | `EV` `Id` (10 armed, 28 not landed → 1; 11 disarmed, 18 land complete → 0) and `ARM` `ArmState` (≠ 0 → 1) | 1 / 0 |
 //!
 //! The controls are the controllers' normalised outputs before the TradHeli swashplate mixer
 //! (`RCOU` PWM would need the swashplate geometry and servo trims to undo): pedal = `YOut`,
-//! longitudinal cyclic = `POut` (nose up), lateral = `ROut`, collective = `ThO`.
+//! longitudinal cyclic = `POut` (nose up), lateral = `ROut`, collective = `AOut`. `RATE` `AOut`
+//! and `CTUN` `ThO` are the same quantity (`AP_Motors::get_throttle()`, which the TradHeli mixer
+//! takes as its collective), but `CTUN` is written at 10 Hz and `RATE` with the attitude (up to
+//! the main loop's rate with `LOG_BITMASK` `ATTITUDE_FAST`), so `AOut` is taken when the log
+//! has it and `ThO` only for logs whose `RATE` lacks it.
+//!
+//! Likewise the attitude: from ArduPilot 4.7 `ATTITUDE_FAST` writes the AHRS attitude with the
+//! attitude controller's targets as `ANG` (at the `RATE` rate) and `ATT` only at 10 Hz, so `ANG`
+//! is taken when the log has it.
 
 pub mod reader;
 
@@ -38,6 +46,10 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     let mut ch = Channels::default();
     let (mut ekf3, mut ekf2) = (Series::<3>::default(), Series::<3>::default());
     let (mut outs, mut collective) = (Series::<3>::default(), Series::<1>::default());
+    // The collective from `RATE` `AOut`; `CTUN` `ThO` is kept apart and used only without it.
+    let mut collective_ctun = Series::<1>::default();
+    // The attitude from `ANG` (4.7 on, fast); `ATT` is kept apart and used only without it.
+    let mut attitude_ang = Series::<3>::default();
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     while let Some(e) = reader.next_record().map_err(err)? {
@@ -48,6 +60,11 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
             "ATT" => {
                 if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
                     ch.attitude.push(t, [r * deg, p * deg, wrap_deg(y)]);
+                }
+            }
+            "ANG" => {
+                if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
+                    attitude_ang.push(t, [r * deg, p * deg, wrap_deg(y)]);
                 }
             }
             "XKF1" if e.get("C").is_none_or(|c| c == 0.0) => {
@@ -67,10 +84,13 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 if let Some(u) = e.fields(["YOut", "POut", "ROut"]) {
                     outs.push(t, u);
                 }
+                if let Some(u) = e.fields(["AOut"]) {
+                    collective.push(t, u);
+                }
             }
             "CTUN" => {
                 if let Some(u) = e.fields(["ThO"]) {
-                    collective.push(t, u);
+                    collective_ctun.push(t, u);
                 }
             }
             "EV" => match e.get("Id") {
@@ -94,6 +114,12 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     }
     let notes = reader.issues().notes(file);
     ch.velocity_ned = if ekf3.t.is_empty() { ekf2 } else { ekf3 };
+    if collective.t.is_empty() {
+        collective = collective_ctun;
+    }
+    if !attitude_ang.t.is_empty() {
+        ch.attitude = attitude_ang;
+    }
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
     let remark = reader.issues().first();
     let missing = |quantity, tried| ImportError::Missing {
@@ -104,7 +130,7 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         remark: remark.clone(),
     };
     if ch.attitude.t.is_empty() {
-        return Err(missing("attitude", "`ATT` `Roll Pitch Yaw`"));
+        return Err(missing("attitude", "`ANG` or `ATT` `Roll Pitch Yaw`"));
     }
     if ch.velocity_ned.t.is_empty() {
         return Err(missing("velocity", "`XKF1` or `NKF1` `VN VE VD`"));
@@ -115,8 +141,112 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     if ch.controls.t.is_empty() {
         return Err(missing(
             "helicopter controls",
-            "`RATE` `ROut POut YOut` with `CTUN` `ThO`",
+            "`RATE` `ROut POut YOut` with `RATE` `AOut` or `CTUN` `ThO`",
         ));
     }
     Ok((ch, notes))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn padded<const N: usize>(s: &str) -> [u8; N] {
+        let mut out = [0u8; N];
+        out[..s.len()].copy_from_slice(s.as_bytes());
+        out
+    }
+
+    fn fmt(buf: &mut Vec<u8>, kind: u8, name: &str, format: &str, labels: &str, len: usize) {
+        buf.extend_from_slice(&[0xA3, 0x95, 0x80, kind, (3 + len) as u8]);
+        buf.extend_from_slice(&padded::<4>(name));
+        buf.extend_from_slice(&padded::<16>(format));
+        buf.extend_from_slice(&padded::<64>(labels));
+    }
+
+    fn row(buf: &mut Vec<u8>, kind: u8, t_us: u64, values: &[f32]) {
+        buf.extend_from_slice(&[0xA3, 0x95, kind]);
+        buf.extend_from_slice(&t_us.to_le_bytes());
+        for v in values {
+            buf.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+
+    /// A log as ArduPilot writes it with `ATTITUDE_FAST`: `RATE` (with or without `AOut`) at
+    /// 50 Hz, the collective ramping 0.4 → 0.6, and `CTUN` `ThO` at 10 Hz with a different
+    /// value (0.2) so the test can tell which one was taken; `with_aout` is a 4.7 log, with
+    /// `ANG` at 50 Hz and `ATT` at 10 Hz (different rolls, for the same reason).
+    fn log(with_aout: bool) -> Vec<u8> {
+        let mut buf = Vec::new();
+        fmt(&mut buf, 0x81, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
+        fmt(&mut buf, 0x82, "XKF1", "Qfff", "TimeUS,VN,VE,VD", 20);
+        let (rate_format, rate_labels, rate_len) = if with_aout {
+            ("Qfffffff", "TimeUS,R,P,Y,ROut,POut,YOut,AOut", 36)
+        } else {
+            ("Qffffff", "TimeUS,R,P,Y,ROut,POut,YOut", 32)
+        };
+        fmt(&mut buf, 0x83, "RATE", rate_format, rate_labels, rate_len);
+        fmt(&mut buf, 0x84, "CTUN", "Qf", "TimeUS,ThO", 12);
+        if with_aout {
+            fmt(&mut buf, 0x85, "ANG", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
+        }
+        for k in 0..100u64 {
+            let t = 1_000_000 + k * 20_000;
+            // 4.7 logs: `ATT` at 10 Hz (roll 9°), `ANG` with the rates at 50 Hz (roll 1°).
+            if !with_aout || k % 5 == 0 {
+                row(
+                    &mut buf,
+                    0x81,
+                    t,
+                    &[if with_aout { 9.0 } else { 0.0 }, 0.0, 10.0],
+                );
+            }
+            if with_aout {
+                row(&mut buf, 0x85, t, &[1.0, 0.0, 10.0]);
+            }
+            row(&mut buf, 0x82, t, &[0.0, 0.0, 0.0]);
+            let col = 0.4 + 0.2 * k as f32 / 99.0;
+            let mut rate = vec![0.0, 0.0, 0.0, 0.1, -0.1, 0.05];
+            if with_aout {
+                rate.push(col);
+            }
+            row(&mut buf, 0x83, t, &rate);
+            if k % 5 == 0 {
+                row(&mut buf, 0x84, t, &[0.2]);
+            }
+        }
+        buf
+    }
+
+    #[test]
+    fn the_collective_comes_from_rate_aout_and_the_attitude_from_ang_when_the_log_has_them() {
+        let (ch, _) = channels("heli.bin", &log(true)[..]).expect("imports");
+        assert_eq!(ch.controls.t.len(), 100);
+        let col: Vec<f64> = ch.controls.v.iter().map(|u| u[0]).collect();
+        // 50 Hz ramp 0.4 → 0.6 from AOut, not the 10 Hz ThO of 0.2.
+        assert!(
+            (col[0] - 0.4).abs() < 1e-6 && (col[99] - 0.6).abs() < 1e-6,
+            "{col:?}"
+        );
+        assert!(col.windows(2).all(|w| w[1] > w[0]), "not the 50 Hz ramp");
+        // The attitude from the 50 Hz `ANG`, not the 10 Hz `ATT`.
+        assert_eq!(ch.attitude.t.len(), 100);
+        assert!(ch
+            .attitude
+            .v
+            .iter()
+            .all(|a| (a[0] - 1f64.to_radians()).abs() < 1e-6));
+        let u = ch.controls.v[50];
+        assert!(
+            (u[1] - 0.05).abs() < 1e-6 && (u[2] + 0.1).abs() < 1e-6 && (u[3] - 0.1).abs() < 1e-6
+        );
+    }
+
+    #[test]
+    fn without_rate_aout_the_collective_is_ctun_tho_and_without_ang_the_attitude_att() {
+        let (ch, _) = channels("quad.bin", &log(false)[..]).expect("imports");
+        assert_eq!(ch.attitude.t.len(), 100);
+        assert!(!ch.controls.t.is_empty());
+        assert!(ch.controls.v.iter().all(|u| (u[0] - 0.2).abs() < 1e-6));
+    }
 }
