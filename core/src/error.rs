@@ -31,8 +31,6 @@ pub enum Quantity {
     Config,
 }
 
-pub use crate::hover::SampleField;
-
 impl From<SampleField> for Quantity {
     fn from(f: SampleField) -> Self {
         Quantity::Sample(f)
@@ -203,5 +201,80 @@ mod std_tests {
         let io: std::io::Error = Error::NonMonotonicTime.into();
         assert_eq!(io.kind(), std::io::ErrorKind::InvalidData);
         assert_eq!(std::format!("{io}"), "time stamp does not increase");
+    }
+}
+
+/// A field of a [`HoverSample`](crate::hover::HoverSample), as an error names it ([`Quantity::Sample`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum SampleField {
+    /// Roll angle φ (rad).
+    Roll,
+    /// Pitch angle θ (rad).
+    Pitch,
+    /// Yaw angle ψ (rad).
+    Yaw,
+    /// Inertial velocity component `v^s[index]` (m/s, paper axes: x east, y up, z south).
+    Velocity(u8),
+    /// Body rate `ω^b[index]` of `[q r p]` (deg/s).
+    Rate(u8),
+    /// Control `u[index]` of `[u_col u_ped u_lon u_lat]` (normalised, −1…1).
+    Control(u8),
+    /// Sample time stamp (µs).
+    Time,
+    /// Component of an attitude quaternion `[w x y z]` (index 0–3).
+    Quaternion(u8),
+    /// The norm of an attitude quaternion (`|‖q‖² − 1|`, see
+    /// [`SampleLimits::QUATERNION_NORM`](crate::hover::SampleLimits::QUATERNION_NORM)).
+    QuaternionNorm,
+    /// Element of an attitude rotation matrix (index `3 × row + column`).
+    Matrix(u8),
+    /// The orthonormality of an attitude rotation matrix's columns (see
+    /// [`SampleLimits::MATRIX_ORTHONORMALITY`](crate::hover::SampleLimits::MATRIX_ORTHONORMALITY)).
+    MatrixOrthonormality,
+}
+
+impl fmt::Display for SampleField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        const RATES: [&str; 3] = ["q", "r", "p"];
+        const CONTROLS: [&str; 4] = ["u_col", "u_ped", "u_lon", "u_lat"];
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        match *self {
+            SampleField::Roll => f.write_str("roll φ (rad)"),
+            SampleField::Pitch => f.write_str("pitch θ (rad)"),
+            SampleField::Yaw => f.write_str("yaw ψ (rad)"),
+            SampleField::Velocity(i) => match AXES.get(usize::from(i)) {
+                Some(a) => write!(f, "velocity v_{a} (m/s)"),
+                None => write!(f, "velocity[{i}] (m/s)"),
+            },
+            SampleField::Rate(i) => match RATES.get(usize::from(i)) {
+                Some(a) => write!(f, "body rate {a} (deg/s)"),
+                None => write!(f, "body rate[{i}] (deg/s)"),
+            },
+            SampleField::Control(i) => match CONTROLS.get(usize::from(i)) {
+                Some(a) => write!(f, "control {a}"),
+                None => write!(f, "control[{i}]"),
+            },
+            SampleField::Time => f.write_str("time stamp (µs)"),
+            SampleField::Quaternion(i) => match ["w", "x", "y", "z"].get(usize::from(i)) {
+                Some(a) => write!(f, "attitude quaternion {a}"),
+                None => write!(f, "attitude quaternion[{i}]"),
+            },
+            SampleField::QuaternionNorm => f.write_str("attitude quaternion norm"),
+            SampleField::Matrix(i) => write!(f, "attitude matrix R[{}][{}]", i / 3, i % 3),
+            SampleField::MatrixOrthonormality => f.write_str("attitude matrix orthonormality"),
+        }
+    }
+}
+
+/// `NonFinite` for NaN/±∞, `OutOfRange` beyond `limit` (in magnitude).
+pub(crate) fn check<T: crate::scalar::Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
+    if !x.is_finite() {
+        Err(Error::NonFinite(q))
+    } else if x.abs() > T::lit(limit) {
+        Err(Error::OutOfRange(q))
+    } else {
+        Ok(())
     }
 }

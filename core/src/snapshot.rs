@@ -31,8 +31,10 @@
 //! snapshot leaves the identifier bit for bit unchanged.
 
 use crate::error::Error;
-use crate::hover::{HoverIdentifier, StateModel};
+use crate::hover::{HoverConfig, HoverIdentifier, Premise, RegressorScaling, StateModel};
+use crate::membership::MembershipFunction;
 use crate::rls::{Algorithm, RlsState, RlsView};
+use crate::rule_base::PremiseSets;
 
 /// Length of the snapshot header: magic, format version, kind (bytes).
 pub const HEADER_SIZE: usize = 12;
@@ -252,7 +254,7 @@ pub trait Snapshot: sealed::Sealed {
     fn import_snapshot(&mut self, kind: u32, source: &mut impl WordSource) -> Result<(), Error>;
 
     /// A hash of what a snapshot does not carry but must match to be read back: the
-    /// configuration ([`HoverConfig`](crate::HoverConfig): RLS form, α, λ, trace bound,
+    /// configuration ([`HoverConfig`]: RLS form, α, λ, trace bound,
     /// sample period and tolerance, scaling) and each model's premise and sets. CRC-32 of
     /// this byte form (all u32 little-endian, floats as their bits):
     ///
@@ -345,14 +347,14 @@ where
     fn config_hash(&self) -> u32 {
         let mut discard = Discard;
         let mut w = CrcSink::new(&mut discard);
-        crate::record::put_config(&self.config(), &mut w);
+        put_config(&self.config(), &mut w);
         for (premise, sets) in [
             self.velocity_model().premise_sets(),
             self.pitch_model().premise_sets(),
             self.yaw_model().premise_sets(),
             self.roll_model().premise_sets(),
         ] {
-            crate::record::put_premise(premise, sets, &mut w);
+            put_premise(premise, sets, &mut w);
         }
         w.digest.finalize()
     }
@@ -416,4 +418,47 @@ fn import_model<M: StateModel<f32, State: SnapshotState>>(
     let mut s = M::State::blank();
     s.read(source)?;
     m.import(&s)
+}
+
+// ---- The configuration hash's byte form (see `Snapshot::config_hash`) ----------------------
+
+fn put_config(c: &HoverConfig<f32>, w: &mut impl WordSink) {
+    let scaling: u32 = match c.scaling {
+        RegressorScaling::None => 0,
+        RegressorScaling::Helicopter => 1,
+    };
+    for word in [
+        u32::from(c.rls.algorithm.code()),
+        c.rls.initial_covariance.to_bits(),
+        c.rls.forgetting.to_bits(),
+        c.rls.max_trace.to_bits(),
+        c.sample_period_us,
+        c.period_tolerance_us,
+        scaling,
+    ] {
+        w.put_word(word.to_le_bytes());
+    }
+}
+
+fn put_premise(premise: Premise, sets: &[PremiseSets<f32>], w: &mut impl WordSink) {
+    let code: u32 = match premise {
+        Premise::Velocity => 0,
+        Premise::Rates => 1,
+        Premise::HeadingVelocity => 2,
+    };
+    w.put_word(code.to_le_bytes());
+    w.put_word((sets.len() as u32).to_le_bytes());
+    for variable in sets {
+        w.put_word((variable.len() as u32).to_le_bytes());
+        for set in variable {
+            let (shape, (c, s)) = match set {
+                MembershipFunction::Gaussian { .. } => (0u32, set.parameters()),
+                MembershipFunction::LeftShoulder { .. } => (1, set.parameters()),
+                MembershipFunction::RightShoulder { .. } => (2, set.parameters()),
+            };
+            for word in [shape, c.to_bits(), s.to_bits()] {
+                w.put_word(word.to_le_bytes());
+            }
+        }
+    }
 }

@@ -3,7 +3,8 @@
 use rotorid::{Error, HoverSample, HoverState, Quantity};
 
 use crate::error::*;
-use crate::handle::{get, ident, ident_mut, kind_of, put, rotorid_ident_t};
+use crate::handle::{ident, ident_mut, kind_of, rotorid_ident_t};
+use crate::ptr::{get, put};
 use crate::types::*;
 
 /// Takes sample k+1: learns every model from sample k to it and predicts sample k+2

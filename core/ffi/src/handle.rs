@@ -23,13 +23,18 @@
 //! version (not the build) is checked. Warm starts across builds or flights go through
 //! `rotorid_export` / `rotorid_import`.
 
-use core::mem::size_of;
+use core::mem::{align_of, size_of};
 use core::sync::atomic::{AtomicPtr, Ordering};
 
-use rotorid::HoverConfig;
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
+    PaperPlainIdentifier,
+};
 
 use crate::error::*;
 use crate::kinds::*;
+use crate::ptr::get;
 use crate::types::*;
 
 /// An identifier in caller-provided storage (opaque; the storage's address).
@@ -131,32 +136,6 @@ fn registered(kind: u32) -> Option<ViewFn> {
     // SAFETY: the only non-null values stored in VIEWS are `ViewFn`s (`register`), and a
     // function pointer round-trips through a data pointer on every target Rust supports.
     Some(unsafe { core::mem::transmute::<*mut (), ViewFn>(p) })
-}
-
-/// Reads `*p`, or reports `ROTORID_E_NULL`.
-///
-/// # Safety
-/// `p` is NULL or valid for one read of a `T`.
-pub(crate) unsafe fn get<T: Copy>(p: *const T) -> Result<T, rotorid_error_t> {
-    // SAFETY: the caller's contract.
-    unsafe { p.as_ref() }
-        .copied()
-        .ok_or(rotorid_error_t::interface(ROTORID_E_NULL))
-}
-
-/// Writes `value` to `out`, or reports `ROTORID_E_NULL`.
-///
-/// # Safety
-/// `out` is NULL or valid for one write of a `T`.
-pub(crate) unsafe fn put<T>(out: *mut T, value: T) -> Result<(), rotorid_error_t> {
-    // SAFETY: the caller's contract.
-    match unsafe { out.as_mut() } {
-        Some(out) => {
-            *out = value;
-            Ok(())
-        }
-        None => Err(rotorid_error_t::interface(ROTORID_E_NULL)),
-    }
 }
 
 /// Prepares an identifier of type `I` (kind code `kind`) in `storage`: the body of every
@@ -530,4 +509,61 @@ pub(crate) unsafe fn ident_mut<'a>(
         let (_, view) = header(h)?;
         Ok(&mut *view(h.cast::<Header>()))
     }
+}
+
+/// The documented sizes are the real ones (checked at compile time, on every target).
+const _: () = {
+    macro_rules! check {
+        ($I:ty, $storage:expr, $export:expr) => {
+            assert!(size_of::<Slot<$I>>() == $storage);
+            assert!(align_of::<Slot<$I>>() <= ROTORID_STORAGE_ALIGN);
+            assert!(<$I as ExportSize>::EXPORT_SIZE == $export);
+        };
+    }
+    check!(
+        FlightIdentifier<f32>,
+        ROTORID_FLIGHT_STORAGE_SIZE,
+        ROTORID_FLIGHT_EXPORT_SIZE
+    );
+    check!(
+        FlightPlainIdentifier<f32>,
+        ROTORID_FLIGHT_PLAIN_STORAGE_SIZE,
+        ROTORID_FLIGHT_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        PaperFuzzyIdentifier<f32>,
+        ROTORID_PAPER_FUZZY_STORAGE_SIZE,
+        ROTORID_PAPER_FUZZY_EXPORT_SIZE
+    );
+    check!(
+        PaperPlainIdentifier<f32>,
+        ROTORID_PAPER_PLAIN_STORAGE_SIZE,
+        ROTORID_PAPER_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        ExtendedFuzzyIdentifier<f32>,
+        ROTORID_EXTENDED_FUZZY_STORAGE_SIZE,
+        ROTORID_EXTENDED_FUZZY_EXPORT_SIZE
+    );
+    check!(
+        ExtendedPlainIdentifier<f32>,
+        ROTORID_EXTENDED_PLAIN_STORAGE_SIZE,
+        ROTORID_EXTENDED_PLAIN_EXPORT_SIZE
+    );
+    check!(
+        PaperLocalIdentifier<f32>,
+        ROTORID_PAPER_LOCAL_STORAGE_SIZE,
+        ROTORID_PAPER_LOCAL_EXPORT_SIZE
+    );
+    check!(
+        ExtendedLocalIdentifier<f32>,
+        ROTORID_EXTENDED_LOCAL_STORAGE_SIZE,
+        ROTORID_EXTENDED_LOCAL_EXPORT_SIZE
+    );
+};
+
+/// Storage bytes an identifier of `kind` needs (0 for an unknown kind).
+#[no_mangle]
+pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
+    for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
 }

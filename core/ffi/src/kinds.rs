@@ -1,8 +1,6 @@
 //! The identifier kinds of the C interface: codes, sizes, how each is built, and the calls any
 //! kind answers.
 
-use core::mem::{align_of, size_of};
-
 use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
 use rotorid::membership::MembershipFunction;
 use rotorid::{
@@ -15,7 +13,6 @@ use rotorid::record;
 use rotorid::snapshot::{Snapshot, SnapshotState};
 
 use crate::export;
-use crate::handle::Slot;
 use crate::types::*;
 
 /// The flight default: three forward-speed rules per model, local learning, the extended
@@ -192,63 +189,6 @@ macro_rules! for_kind {
 }
 
 pub(crate) use for_kind;
-
-/// The documented sizes are the real ones (checked at compile time, on every target).
-const _: () = {
-    macro_rules! check {
-        ($I:ty, $storage:expr, $export:expr) => {
-            assert!(size_of::<Slot<$I>>() == $storage);
-            assert!(align_of::<Slot<$I>>() <= ROTORID_STORAGE_ALIGN);
-            assert!(<$I as ExportSize>::EXPORT_SIZE == $export);
-        };
-    }
-    check!(
-        FlightIdentifier<f32>,
-        ROTORID_FLIGHT_STORAGE_SIZE,
-        ROTORID_FLIGHT_EXPORT_SIZE
-    );
-    check!(
-        FlightPlainIdentifier<f32>,
-        ROTORID_FLIGHT_PLAIN_STORAGE_SIZE,
-        ROTORID_FLIGHT_PLAIN_EXPORT_SIZE
-    );
-    check!(
-        PaperFuzzyIdentifier<f32>,
-        ROTORID_PAPER_FUZZY_STORAGE_SIZE,
-        ROTORID_PAPER_FUZZY_EXPORT_SIZE
-    );
-    check!(
-        PaperPlainIdentifier<f32>,
-        ROTORID_PAPER_PLAIN_STORAGE_SIZE,
-        ROTORID_PAPER_PLAIN_EXPORT_SIZE
-    );
-    check!(
-        ExtendedFuzzyIdentifier<f32>,
-        ROTORID_EXTENDED_FUZZY_STORAGE_SIZE,
-        ROTORID_EXTENDED_FUZZY_EXPORT_SIZE
-    );
-    check!(
-        ExtendedPlainIdentifier<f32>,
-        ROTORID_EXTENDED_PLAIN_STORAGE_SIZE,
-        ROTORID_EXTENDED_PLAIN_EXPORT_SIZE
-    );
-    check!(
-        PaperLocalIdentifier<f32>,
-        ROTORID_PAPER_LOCAL_STORAGE_SIZE,
-        ROTORID_PAPER_LOCAL_EXPORT_SIZE
-    );
-    check!(
-        ExtendedLocalIdentifier<f32>,
-        ROTORID_EXTENDED_LOCAL_STORAGE_SIZE,
-        ROTORID_EXTENDED_LOCAL_EXPORT_SIZE
-    );
-};
-
-/// Storage bytes an identifier of `kind` needs (0 for an unknown kind).
-#[no_mangle]
-pub extern "C" fn rotorid_storage_size(kind: u32) -> usize {
-    for_kind!(kind, I => size_of::<Slot<I>>(), _ => 0)
-}
 
 /// Bytes of a persistence record of `kind` (0 for an unknown kind): the export plus
 /// `ROTORID_RECORD_OVERHEAD` (`docs/c-interface.md`, "Keeping the model across resets").

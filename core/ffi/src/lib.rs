@@ -48,6 +48,7 @@ pub mod handle;
 pub mod kinds;
 #[cfg(test)]
 mod promises;
+mod ptr;
 pub mod record;
 #[cfg(test)]
 mod record_tests;

@@ -9,7 +9,8 @@
 use rotorid::record::{self, RecordError, RecordInfo, Slot};
 
 use crate::error::*;
-use crate::handle::{ident, ident_mut, kind_of, put, rotorid_ident_t};
+use crate::handle::{ident, ident_mut, kind_of, rotorid_ident_t};
+use crate::ptr::put;
 
 /// Bytes a persistence record adds to the export of its kind (header 24, CRC-32 4):
 /// `rotorid_record_size(kind) == rotorid_export_size(kind) + ROTORID_RECORD_OVERHEAD`.

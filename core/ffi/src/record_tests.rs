@@ -7,7 +7,7 @@ use std::vec;
 use std::vec::Vec;
 
 use crate::error::*;
-use crate::handle::rotorid_init;
+use crate::handle::{rotorid_init, rotorid_storage_size};
 use crate::kinds::*;
 use crate::promises::Prepared;
 use crate::record::*;

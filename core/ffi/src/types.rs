@@ -10,7 +10,7 @@ use rotorid::rls::{Algorithm, RlsConfig};
 use rotorid::HoverConfig;
 
 use crate::error::*;
-use crate::handle::put;
+use crate::ptr::put;
 
 /// One measurement sample at time step k.
 #[repr(C)]

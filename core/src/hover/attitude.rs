@@ -15,10 +15,19 @@
 //! bits, never more: the tests bound the difference over a flight. Each form on its own gives
 //! the same bits on every target.
 
-use crate::error::Error;
-use crate::hover::models::BodyFrame;
-use crate::hover::sample::{check, SampleField, SampleLimits};
+use crate::error::{check, Error, SampleField};
+use crate::hover::frame::BodyFrame;
 use crate::scalar::Real;
+
+/// The bounds of each form (the values of [`SampleLimits`](crate::hover::SampleLimits)'
+/// attitude constants, which document them).
+pub(crate) mod limits {
+    pub const ROLL: f64 = 3.2;
+    pub const PITCH: f64 = 1.6;
+    pub const YAW: f64 = 6.3;
+    pub const QUATERNION_NORM: f64 = 0.01;
+    pub const MATRIX_ORTHONORMALITY: f64 = 0.01;
+}
 
 /// ZYX Euler angles (rad): roll φ, pitch θ, yaw ψ.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -35,7 +44,7 @@ pub struct Attitude<T> {
 /// A unit quaternion `q = [w x y z]` (Hamilton convention) that rotates forward-right-down
 /// body vectors into north-east-down: PX4's `vehicle_attitude.q` as it stands.
 ///
-/// It must be normalised to within [`SampleLimits::QUATERNION_NORM`] (`|‖q‖² − 1|`); the
+/// It must be normalised to within [`SampleLimits::QUATERNION_NORM`](crate::hover::SampleLimits::QUATERNION_NORM) (`|‖q‖² − 1|`); the
 /// frame divides by `‖q‖²`, so small drifts of the norm do not tilt the axes. `q` and `−q`
 /// are the same attitude.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -67,7 +76,7 @@ impl<T: Real> Default for Quaternion<T> {
 /// rows north, east, down; columns the body's forward, right and down axes. ArduPilot's
 /// `AP_AHRS::get_rotation_body_to_ned()` (its DCM) as it stands.
 ///
-/// Its columns must be orthonormal to within [`SampleLimits::MATRIX_ORTHONORMALITY`] (every
+/// Its columns must be orthonormal to within [`SampleLimits::MATRIX_ORTHONORMALITY`](crate::hover::SampleLimits::MATRIX_ORTHONORMALITY) (every
 /// `|cᵢ·cⱼ − δᵢⱼ|`).
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -156,7 +165,7 @@ mod sealed {
 /// angles, the default), [`Quaternion`] or [`RotationMatrix`]. Sealed: the identifier relies on
 /// the checks and frames below.
 pub trait AttitudeInput<T: Real>: Copy + sealed::Sealed {
-    /// Checks the attitude: `NonFinite` for NaN/±∞, `OutOfRange` beyond [`SampleLimits`].
+    /// Checks the attitude: `NonFinite` for NaN/±∞, `OutOfRange` beyond [`SampleLimits`](crate::hover::SampleLimits).
     fn check(&self) -> Result<(), Error>;
     /// The body frame of an attitude that passed [`check`](Self::check) (finite for any
     /// finite input).
@@ -165,9 +174,9 @@ pub trait AttitudeInput<T: Real>: Copy + sealed::Sealed {
 
 impl<T: Real> AttitudeInput<T> for Attitude<T> {
     fn check(&self) -> Result<(), Error> {
-        check(self.roll, SampleLimits::ROLL, SampleField::Roll.into())?;
-        check(self.pitch, SampleLimits::PITCH, SampleField::Pitch.into())?;
-        check(self.yaw, SampleLimits::YAW, SampleField::Yaw.into())
+        check(self.roll, limits::ROLL, SampleField::Roll.into())?;
+        check(self.pitch, limits::PITCH, SampleField::Pitch.into())?;
+        check(self.yaw, limits::YAW, SampleField::Yaw.into())
     }
 
     #[inline]
@@ -185,7 +194,7 @@ impl<T: Real> AttitudeInput<T> for Quaternion<T> {
         }
         // Each component is finite, so |c| ≤ 2 (checked first) keeps the squares finite.
         let n2 = self.norm_squared();
-        if (n2 - T::one()).abs() > T::lit(SampleLimits::QUATERNION_NORM) {
+        if (n2 - T::one()).abs() > T::lit(limits::QUATERNION_NORM) {
             return Err(Error::OutOfRange(SampleField::QuaternionNorm.into()));
         }
         Ok(())
@@ -241,7 +250,7 @@ impl<T: Real> AttitudeInput<T> for RotationMatrix<T> {
                 return Err(Error::OutOfRange(SampleField::Matrix(i as u8).into()));
             }
         }
-        let limit = T::lit(SampleLimits::MATRIX_ORTHONORMALITY);
+        let limit = T::lit(limits::MATRIX_ORTHONORMALITY);
         let col = |j: usize| self.rows.map(|r| r.get(j).copied().unwrap_or_else(T::zero));
         let cols = [col(0), col(1), col(2)];
         for (i, a) in cols.iter().enumerate() {
@@ -266,7 +275,51 @@ impl<T: Real> RotationMatrix<T> {
     /// The rotation matrix of a quaternion (exact up to rounding for a unit quaternion; the
     /// frame of either is computed without this step).
     pub fn from_quaternion(q: &Quaternion<T>) -> Self {
-        let [r0, r1, r2] = super::models::quaternion_rows(q);
+        let [r0, r1, r2] = quaternion_rows(q);
         Self { rows: [r0, r1, r2] }
     }
+}
+
+impl<T: Real> BodyFrame<T> {
+    /// The frame of an attitude.
+    #[inline]
+    pub fn of(a: &Attitude<T>) -> Self {
+        Self::new(a.roll, a.pitch, a.yaw)
+    }
+
+    /// The frame of a quaternion (see [`Quaternion`]): its rotation matrix's columns, without
+    /// trigonometry.
+    #[inline]
+    pub fn from_quaternion(q: &Quaternion<T>) -> Self {
+        Self::of_rows(&quaternion_rows(q))
+    }
+
+    /// The frame of a rotation matrix (see [`RotationMatrix`]).
+    #[inline]
+    pub fn from_matrix(m: &RotationMatrix<T>) -> Self {
+        Self::of_rows(&m.rows)
+    }
+}
+
+/// The rows of the rotation matrix of `q` (body FRD to NED), divided by `‖q‖²` so that a
+/// quaternion slightly off unit norm still gives orthonormal axes.
+#[inline(always)]
+fn quaternion_rows<T: Real>(q: &Quaternion<T>) -> [[T; 3]; 3] {
+    let Quaternion { w, x, y, z } = *q;
+    let n2 = w * w + x * x + y * y + z * z;
+    let one = T::one();
+    // A zero quaternion is refused by its check; `s = 0` keeps this finite anyway.
+    let s = if n2 > T::zero() {
+        T::lit(2.0) / n2
+    } else {
+        T::zero()
+    };
+    let (xx, yy, zz) = (x * x, y * y, z * z);
+    let (xy, xz, yz) = (x * y, x * z, y * z);
+    let (wx, wy, wz) = (w * x, w * y, w * z);
+    [
+        [one - s * (yy + zz), s * (xy - wz), s * (xz + wy)],
+        [s * (xy + wz), one - s * (xx + zz), s * (yz - wx)],
+        [s * (xz - wy), s * (yz + wx), one - s * (xx + yy)],
+    ]
 }

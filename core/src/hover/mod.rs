@@ -18,6 +18,7 @@
 
 mod attitude;
 mod config;
+mod frame;
 mod identifier;
 mod models;
 mod noise;
@@ -26,6 +27,7 @@ mod sample;
 pub mod table3;
 mod variants;
 
+pub use crate::error::SampleField;
 pub use attitude::{AnyAttitude, Attitude, AttitudeInput, Quaternion, RotationMatrix};
 pub use config::{HoverConfig, RegressorScaling};
 pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
@@ -35,7 +37,7 @@ pub use models::{
 };
 pub use noise::RateNoise;
 pub use observer::{GainSearch, Observer};
-pub use sample::{Controls, HoverSample, HoverState, SampleField, SampleLimits};
+pub use sample::{Controls, HoverSample, HoverState, SampleLimits};
 pub use variants::{
     flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,

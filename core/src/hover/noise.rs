@@ -1,7 +1,8 @@
 //! The white noise of the gyro rates, estimated from a flight.
 
+use crate::error::SampleField;
 use crate::error::{Error, Quantity};
-use crate::hover::sample::{SampleField, SampleLimits};
+use crate::hover::sample::SampleLimits;
 use crate::scalar::Real;
 
 /// Estimates the standard deviation σ of each rate's white noise `[q r p]` (deg/s) from a

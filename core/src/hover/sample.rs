@@ -1,9 +1,7 @@
 //! One measurement sample and the state vector the identifier predicts.
 
-use core::fmt;
-
-use crate::error::{Error, Quantity};
-use crate::hover::attitude::{Attitude, AttitudeInput};
+use crate::error::{check, Error, SampleField};
+use crate::hover::attitude::{self, Attitude, AttitudeInput};
 use crate::scalar::Real;
 
 /// The four normalised controls (−1…1).
@@ -51,70 +49,6 @@ impl<T: Real> HoverState<T> {
         Self {
             velocity: [a, b, c],
             rates: [q, r, p],
-        }
-    }
-}
-
-/// A field of a [`HoverSample`], as an error names it ([`Quantity::Sample`]).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum SampleField {
-    /// Roll angle φ (rad).
-    Roll,
-    /// Pitch angle θ (rad).
-    Pitch,
-    /// Yaw angle ψ (rad).
-    Yaw,
-    /// Inertial velocity component `v^s[index]` (m/s, paper axes: x east, y up, z south).
-    Velocity(u8),
-    /// Body rate `ω^b[index]` of `[q r p]` (deg/s).
-    Rate(u8),
-    /// Control `u[index]` of `[u_col u_ped u_lon u_lat]` (normalised, −1…1).
-    Control(u8),
-    /// Sample time stamp (µs).
-    Time,
-    /// Component of an attitude quaternion `[w x y z]` (index 0–3).
-    Quaternion(u8),
-    /// The norm of an attitude quaternion (`|‖q‖² − 1|`, see
-    /// [`SampleLimits::QUATERNION_NORM`]).
-    QuaternionNorm,
-    /// Element of an attitude rotation matrix (index `3 × row + column`).
-    Matrix(u8),
-    /// The orthonormality of an attitude rotation matrix's columns (see
-    /// [`SampleLimits::MATRIX_ORTHONORMALITY`]).
-    MatrixOrthonormality,
-}
-
-impl fmt::Display for SampleField {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        const RATES: [&str; 3] = ["q", "r", "p"];
-        const CONTROLS: [&str; 4] = ["u_col", "u_ped", "u_lon", "u_lat"];
-        const AXES: [&str; 3] = ["x", "y", "z"];
-        match *self {
-            SampleField::Roll => f.write_str("roll φ (rad)"),
-            SampleField::Pitch => f.write_str("pitch θ (rad)"),
-            SampleField::Yaw => f.write_str("yaw ψ (rad)"),
-            SampleField::Velocity(i) => match AXES.get(usize::from(i)) {
-                Some(a) => write!(f, "velocity v_{a} (m/s)"),
-                None => write!(f, "velocity[{i}] (m/s)"),
-            },
-            SampleField::Rate(i) => match RATES.get(usize::from(i)) {
-                Some(a) => write!(f, "body rate {a} (deg/s)"),
-                None => write!(f, "body rate[{i}] (deg/s)"),
-            },
-            SampleField::Control(i) => match CONTROLS.get(usize::from(i)) {
-                Some(a) => write!(f, "control {a}"),
-                None => write!(f, "control[{i}]"),
-            },
-            SampleField::Time => f.write_str("time stamp (µs)"),
-            SampleField::Quaternion(i) => match ["w", "x", "y", "z"].get(usize::from(i)) {
-                Some(a) => write!(f, "attitude quaternion {a}"),
-                None => write!(f, "attitude quaternion[{i}]"),
-            },
-            SampleField::QuaternionNorm => f.write_str("attitude quaternion norm"),
-            SampleField::Matrix(i) => write!(f, "attitude matrix R[{}][{}]", i / 3, i % 3),
-            SampleField::MatrixOrthonormality => f.write_str("attitude matrix orthonormality"),
         }
     }
 }
@@ -196,11 +130,11 @@ pub struct SampleLimits;
 
 impl SampleLimits {
     /// |φ| ≤ 3.2 rad (π plus margin).
-    pub const ROLL: f64 = 3.2;
+    pub const ROLL: f64 = attitude::limits::ROLL;
     /// |θ| ≤ 1.6 rad (π/2 plus margin).
-    pub const PITCH: f64 = 1.6;
+    pub const PITCH: f64 = attitude::limits::PITCH;
     /// |ψ| ≤ 6.3 rad (2π plus margin: both ±π and 0…2π conventions pass).
-    pub const YAW: f64 = 6.3;
+    pub const YAW: f64 = attitude::limits::YAW;
     /// Each |v_i| ≤ 100 m/s.
     pub const VELOCITY: f64 = 100.0;
     /// Each |ω_i| ≤ 2000 deg/s (a common gyro range).
@@ -209,10 +143,10 @@ impl SampleLimits {
     pub const CONTROL: f64 = 1.0;
     /// `|‖q‖² − 1| ≤ 0.01` for an attitude quaternion (a flight stack renormalises its
     /// quaternion at every step; 0.01 is far beyond its rounding and short of a wrong input).
-    pub const QUATERNION_NORM: f64 = 0.01;
+    pub const QUATERNION_NORM: f64 = attitude::limits::QUATERNION_NORM;
     /// `|cᵢ·cⱼ − δᵢⱼ| ≤ 0.01` for the columns of an attitude rotation matrix (a DCM is
     /// re-orthonormalised at every step).
-    pub const MATRIX_ORTHONORMALITY: f64 = 0.01;
+    pub const MATRIX_ORTHONORMALITY: f64 = attitude::limits::MATRIX_ORTHONORMALITY;
 
     /// Checks body rates `[q r p]` (deg/s) against [`RATE`](Self::RATE).
     pub fn check_rates<T: Real>(rates: &[T; 3]) -> Result<(), Error> {
@@ -238,16 +172,6 @@ impl SampleLimits {
         for (i, u) in s.controls.to_array().into_iter().enumerate() {
             check(u, Self::CONTROL, SampleField::Control(i as u8).into())?;
         }
-        Ok(())
-    }
-}
-
-pub(crate) fn check<T: Real>(x: T, limit: f64, q: Quantity) -> Result<(), Error> {
-    if !x.is_finite() {
-        Err(Error::NonFinite(q))
-    } else if x.abs() > T::lit(limit) {
-        Err(Error::OutOfRange(q))
-    } else {
         Ok(())
     }
 }

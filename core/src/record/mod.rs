@@ -34,10 +34,7 @@
 use embedded_storage::nor_flash::NorFlashErrorKind;
 
 use crate::error::Error;
-use crate::hover::{HoverConfig, Premise, RegressorScaling};
-use crate::membership::MembershipFunction;
-use crate::rule_base::PremiseSets;
-use crate::snapshot::{Snapshot, WordSink, WordSource, CRC32};
+use crate::snapshot::{Snapshot, WordSource, CRC32};
 
 mod flash;
 
@@ -485,47 +482,4 @@ pub fn decode<I: Snapshot>(
     id.read_snapshot(kind, payload)
         .map_err(RecordError::Refused)?;
     Ok(info)
-}
-
-// ---- The configuration hash's byte form (see `Snapshot::config_hash`) ----------------------
-
-pub(crate) fn put_config(c: &HoverConfig<f32>, w: &mut impl WordSink) {
-    let scaling: u32 = match c.scaling {
-        RegressorScaling::None => 0,
-        RegressorScaling::Helicopter => 1,
-    };
-    for word in [
-        u32::from(c.rls.algorithm.code()),
-        c.rls.initial_covariance.to_bits(),
-        c.rls.forgetting.to_bits(),
-        c.rls.max_trace.to_bits(),
-        c.sample_period_us,
-        c.period_tolerance_us,
-        scaling,
-    ] {
-        w.put_word(word.to_le_bytes());
-    }
-}
-
-pub(crate) fn put_premise(premise: Premise, sets: &[PremiseSets<f32>], w: &mut impl WordSink) {
-    let code: u32 = match premise {
-        Premise::Velocity => 0,
-        Premise::Rates => 1,
-        Premise::HeadingVelocity => 2,
-    };
-    w.put_word(code.to_le_bytes());
-    w.put_word((sets.len() as u32).to_le_bytes());
-    for variable in sets {
-        w.put_word((variable.len() as u32).to_le_bytes());
-        for set in variable {
-            let (shape, (c, s)) = match set {
-                MembershipFunction::Gaussian { .. } => (0u32, set.parameters()),
-                MembershipFunction::LeftShoulder { .. } => (1, set.parameters()),
-                MembershipFunction::RightShoulder { .. } => (2, set.parameters()),
-            };
-            for word in [shape, c.to_bits(), s.to_bits()] {
-                w.put_word(word.to_le_bytes());
-            }
-        }
-    }
 }

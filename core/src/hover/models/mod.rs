@@ -2,7 +2,6 @@
 //! into the premise and consequent terms of a TS estimator
 //! ([`TsEstimator`](crate::learning::TsEstimator)).
 //!
-//! * [`frame`]: the body axes of an attitude ([`BodyFrame`]).
 //! * [`velocity`]: the translational model (Eq. 27) and its structures.
 //! * [`rate`]: the three angular models (Eqs. 28–30) and their structures.
 
@@ -59,12 +58,10 @@ macro_rules! forward_to_estimator {
     };
 }
 
-mod frame;
 mod rate;
 mod velocity;
 
-pub(crate) use frame::quaternion_rows;
-pub use frame::{right_axis, rotor_axis, BodyFrame};
+pub use crate::hover::frame::{right_axis, rotor_axis, BodyFrame};
 pub use rate::{RateAxis, RateModel, RateStructure};
 pub use velocity::{VelocityModel, VelocityStructure};
 

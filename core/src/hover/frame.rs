@@ -1,6 +1,6 @@
-//! The body axes of one attitude.
+//! The body axes of one attitude: what the models read of it, whatever its form (the
+//! constructors from each form are beside the forms, in `attitude.rs`).
 
-use crate::hover::attitude::{Attitude, Quaternion, RotationMatrix};
 use crate::scalar::Real;
 
 /// The body axes of one attitude, in paper axes (x east, y up, z south): the rotor axis `j_b`,
@@ -16,8 +16,8 @@ use crate::scalar::Real;
 pub struct BodyFrame<T> {
     up: [T; 3],
     right: [T; 3],
-    pub(super) sp: T,
-    pub(super) cp: T,
+    pub(crate) sp: T,
+    pub(crate) cp: T,
 }
 
 /// Below this `cos²θ` (pitch within about 0.06° of ±90°) the heading of a quaternion or a
@@ -26,12 +26,6 @@ pub struct BodyFrame<T> {
 const VERTICAL_NOSE_COS2: f64 = 1e-6;
 
 impl<T: Real> BodyFrame<T> {
-    /// The frame of an attitude.
-    #[inline]
-    pub fn of(a: &Attitude<T>) -> Self {
-        Self::new(a.roll, a.pitch, a.yaw)
-    }
-
     /// The frame of roll, pitch, yaw (rad).
     #[inline]
     pub fn new(roll: T, pitch: T, yaw: T) -> Self {
@@ -59,23 +53,10 @@ impl<T: Real> BodyFrame<T> {
         }
     }
 
-    /// The frame of a quaternion (see [`Quaternion`]): its rotation matrix's columns, without
-    /// trigonometry.
-    #[inline]
-    pub fn from_quaternion(q: &Quaternion<T>) -> Self {
-        Self::of_rows(&quaternion_rows(q))
-    }
-
-    /// The frame of a rotation matrix (see [`RotationMatrix`]).
-    #[inline]
-    pub fn from_matrix(m: &RotationMatrix<T>) -> Self {
-        Self::of_rows(&m.rows)
-    }
-
     /// From the rows (north, east, down) of a body-FRD-to-NED matrix. Paper axes are
     /// (east, −down, −north): up = −(down column), right = right column.
     #[inline(always)]
-    fn of_rows(r: &[[T; 3]; 3]) -> Self {
+    pub(crate) fn of_rows(r: &[[T; 3]; 3]) -> Self {
         let [[r00, r01, r02], [r10, r11, r12], [_, r21, r22]] = *r;
         let (sp, cp) = heading(r00, r10, r01, r11);
         Self {
@@ -129,29 +110,6 @@ fn heading<T: Real>(r00: T, r10: T, r01: T, r11: T) -> (T, T) {
         // Not an orthonormal matrix (refused by its check); north keeps this finite.
         (T::zero(), T::one())
     }
-}
-
-/// The rows of the rotation matrix of `q` (body FRD to NED), divided by `‖q‖²` so that a
-/// quaternion slightly off unit norm still gives orthonormal axes.
-#[inline(always)]
-pub(crate) fn quaternion_rows<T: Real>(q: &Quaternion<T>) -> [[T; 3]; 3] {
-    let Quaternion { w, x, y, z } = *q;
-    let n2 = w * w + x * x + y * y + z * z;
-    let one = T::one();
-    // A zero quaternion is refused by its check; `s = 0` keeps this finite anyway.
-    let s = if n2 > T::zero() {
-        T::lit(2.0) / n2
-    } else {
-        T::zero()
-    };
-    let (xx, yy, zz) = (x * x, y * y, z * z);
-    let (xy, xz, yz) = (x * y, x * z, y * z);
-    let (wx, wy, wz) = (w * x, w * y, w * z);
-    [
-        [one - s * (yy + zz), s * (xy - wz), s * (xz + wy)],
-        [s * (xy + wz), one - s * (xx + zz), s * (yz - wx)],
-        [s * (xz - wy), s * (yz + wx), one - s * (xx + yy)],
-    ]
 }
 
 /// The body "up" axis `j_b` in inertial paper axes: `R e2 = [sφcψ − cφsθsψ, cφcθ, sφsψ + cφsθcψ]`
