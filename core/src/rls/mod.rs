@@ -1,7 +1,7 @@
 //! Recursive least squares (paper Section 4), statically sized.
 //!
-//! (Over 600 lines: the settings, state and checked API of one estimator; the update
-//! kernels are in `update.rs`.)
+//! The settings are in `config.rs`, the update kernels in `update.rs`, the read-only view in
+//! `view.rs`, the unit tests in `tests.rs`.
 //!
 //! The estimator solves `y(k) ≈ ξ(k)ᵀθ` for the parameter vector θ ∈ ℝᴺ, one scalar
 //! measurement at a time. Only the `NP = N(N+1)/2` distinct entries of the symmetric
@@ -50,12 +50,15 @@
 //! # Ok::<(), rotorid::Error>(())
 //! ```
 
-use crate::error::{ConfigError, Error, Quantity};
+use crate::error::{Error, Quantity};
 use crate::scalar::{within, Real};
 
+mod config;
 pub mod errors_in_variables;
 mod update;
 mod view;
+
+pub use config::{Algorithm, RlsConfig};
 
 pub use errors_in_variables::{Compensation, NotCompensated, RegressorNoise};
 use update::RlsSlices;
@@ -81,103 +84,6 @@ pub const PARAMETER_LIMIT: f64 = 1e12;
 /// `U_ij` can exceed it where `D_j` is tiny, hence the wider bound. Within it `Uᵀξ` and `Pξ`
 /// stay finite in f32 for every N ≤ 512 (`512 · 1e18 · 1e7 ≈ 5e27`).
 pub const FACTOR_ENTRY_LIMIT: f64 = 1e18;
-
-/// How the covariance is propagated (see the [module docs](self)).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Algorithm {
-    /// The covariance form of the paper's Section 4 (packed symmetric P).
-    Covariance,
-    /// Bierman's U-D factorisation (packed unit upper U with D on the diagonal).
-    UdFactor,
-}
-
-impl Algorithm {
-    /// The form's code in every rotorid byte format (telemetry, exports, the C interface):
-    /// 0 covariance, 1 U-D.
-    pub const fn code(self) -> u8 {
-        match self {
-            Self::Covariance => 0,
-            Self::UdFactor => 1,
-        }
-    }
-
-    /// The form of a [`code`](Self::code); `None` for any other byte.
-    pub const fn from_code(code: u8) -> Option<Self> {
-        match code {
-            0 => Some(Self::Covariance),
-            1 => Some(Self::UdFactor),
-            _ => None,
-        }
-    }
-}
-
-/// Settings of one RLS estimator.
-#[derive(Copy, Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct RlsConfig<T> {
-    /// Covariance propagation.
-    pub algorithm: Algorithm,
-    /// α in `P(0) = α I`: the prior variance of each parameter (in (0, 1e12]).
-    pub initial_covariance: T,
-    /// Forgetting factor λ ∈ [0.9, 1]; 1 (the paper) forgets nothing.
-    pub forgetting: T,
-    /// Windup guard for λ < 1: upper bound on trace(P) (> 0, ≤ 1e12).
-    pub max_trace: T,
-}
-
-impl<T: Real> RlsConfig<T> {
-    /// The paper's RLS: covariance form, λ = 1, `P(0) = αI`.
-    pub fn paper(alpha: T) -> Self {
-        Self {
-            algorithm: Algorithm::Covariance,
-            initial_covariance: alpha,
-            forgetting: T::one(),
-            max_trace: T::lit(COVARIANCE_LIMIT),
-        }
-    }
-
-    /// Bierman U-D form, λ = 1, `P(0) = αI`: the paper's estimator, computed robustly.
-    pub fn robust(alpha: T) -> Self {
-        Self {
-            algorithm: Algorithm::UdFactor,
-            ..Self::paper(alpha)
-        }
-    }
-
-    /// Returns `self` with forgetting factor λ and trace bound (windup guard).
-    pub fn with_forgetting(self, lambda: T, max_trace: T) -> Self {
-        Self {
-            forgetting: lambda,
-            max_trace,
-            ..self
-        }
-    }
-
-    /// Checks the ranges documented on the fields.
-    pub fn validate(&self) -> Result<(), Error> {
-        let limit = T::lit(COVARIANCE_LIMIT);
-        let a = self.initial_covariance;
-        if !(a.is_finite() && a > T::zero() && a <= limit) {
-            return Err(ConfigError::InitialCovariance.into());
-        }
-        let l = self.forgetting;
-        let t = self.max_trace;
-        let lambda_ok = l.is_finite() && l >= T::lit(0.9) && l <= T::one();
-        let trace_ok = t.is_finite() && t > T::zero() && t <= limit;
-        if !(lambda_ok && trace_ok) {
-            return Err(ConfigError::Forgetting.into());
-        }
-        Ok(())
-    }
-}
-
-impl<T: Real> Default for RlsConfig<T> {
-    /// [`RlsConfig::robust`] with α = 10⁶.
-    fn default() -> Self {
-        Self::robust(T::lit(1e6))
-    }
-}
 
 /// AllParameters an [`Rls`] has learnt, for export and warm start (import).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -786,116 +692,4 @@ fn dot<T: Real, const N: usize>(xi: &[T; N], theta: &[T; N]) -> T {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The dense sums of a small bare estimator and the sums over the non-zero entries give
-    /// the same bits (both forms; regressors with zero entries, and with all entries zero).
-    #[test]
-    fn dense_sums_equal_sums_over_the_non_zero_entries() {
-        for algorithm in [Algorithm::UdFactor, Algorithm::Covariance] {
-            let config = RlsConfig {
-                algorithm,
-                ..RlsConfig::paper(1e4)
-            };
-            let mut dense = Rls::<f32, 4, 10>::new(config).unwrap();
-            let mut listed = dense.clone();
-            assert!(AllParameters(4).dense_sums());
-            let all = [Run { start: 0, end: 4 }];
-            let mut state = 0x9e37_79b9u32;
-            for k in 0..500u32 {
-                let mut xi = [0.0f32; 4];
-                for (i, x) in xi.iter_mut().enumerate() {
-                    state ^= state << 13;
-                    state ^= state >> 17;
-                    state ^= state << 5;
-                    // About half the entries zero, some of them -0.
-                    if (state >> (i * 3)) & 1 == 0 {
-                        *x = (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
-                    } else if k % 3 == 0 {
-                        *x = -0.0;
-                    }
-                }
-                let e = xi[0] - 0.25 * xi[3];
-                dense.update_row(&xi, AllParameters(4), Measurement::row(e, 1.0));
-                listed.update_row(&xi, &all[..], Measurement::row(e, 1.0));
-                let bits = |r: &Rls<f32, 4, 10>| {
-                    let s = r.export();
-                    (s.theta.map(f32::to_bits), s.factor.map(f32::to_bits))
-                };
-                assert_eq!(bits(&dense), bits(&listed), "{algorithm:?} update {k}");
-            }
-            assert_eq!(dense.counters(), listed.counters());
-        }
-    }
-
-    /// The unrolled U-D kernel (every parameter, N ≤ `UNROLLED_UP_TO`) and the slice kernel
-    /// (a support of runs) give the same bits: regressors with zero and -0 entries (columns
-    /// skipped), with and without forgetting, the windup guard holding forgetting off at
-    /// times; f32 and f64, several N.
-    fn unrolled_equals_slices<T: Real, const N: usize, const NP: usize>() {
-        for lambda in [1.0, 0.97] {
-            // A trace bound that the forgetting reaches: the guard holds at times.
-            let bound = T::lit(0.5 * N as f64);
-            let config = RlsConfig::robust(T::lit(1e3)).with_forgetting(T::lit(lambda), bound);
-            let mut unrolled = Rls::<T, N, NP>::new(config).unwrap();
-            let mut slices = unrolled.clone();
-            let all = [Run {
-                start: 0,
-                end: N as u16,
-            }];
-            let mut state = 0x2545_f491u32;
-            let mut next = || {
-                state ^= state << 13;
-                state ^= state >> 17;
-                state ^= state << 5;
-                state
-            };
-            for k in 0..400u32 {
-                let mut xi = [T::zero(); N];
-                for x in xi.iter_mut() {
-                    let r = next();
-                    *x = match r % 4 {
-                        0 => T::zero(),
-                        1 if k % 2 == 0 => -T::zero(),
-                        _ => T::lit(f64::from(r >> 8) / f64::from(1u32 << 24) - 0.5),
-                    };
-                }
-                let e = T::lit(f64::from(next() >> 8) / f64::from(1u32 << 24) - 0.5);
-                let l = if k % 3 == 2 { T::lit(lambda) } else { T::one() };
-                unrolled.update_row(&xi, AllParameters(N), Measurement::row(e, l));
-                slices.update_row(&xi, &all[..], Measurement::row(e, l));
-                let bits = |r: &Rls<T, N, NP>| {
-                    let s = r.export();
-                    (s.theta.map(T::to_bits_u64), s.factor.map(T::to_bits_u64))
-                };
-                assert_eq!(
-                    bits(&unrolled),
-                    bits(&slices),
-                    "N {N}, λ {lambda}, update {k}"
-                );
-            }
-            assert_eq!(unrolled.counters(), slices.counters());
-            if lambda < 1.0 {
-                let c = unrolled.counters();
-                assert!(
-                    c.windup_guards > 0 && c.windup_guards < c.updates / 3,
-                    "N {N}: the guard held {} times in {} updates",
-                    c.windup_guards,
-                    c.updates
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn unrolled_ud_kernel_equals_the_slice_kernel() {
-        unrolled_equals_slices::<f32, 1, 1>();
-        unrolled_equals_slices::<f32, 2, 3>();
-        unrolled_equals_slices::<f32, 5, 15>();
-        unrolled_equals_slices::<f32, 7, 28>();
-        unrolled_equals_slices::<f32, 8, 36>();
-        unrolled_equals_slices::<f64, 2, 3>();
-        unrolled_equals_slices::<f64, 7, 28>();
-    }
-}
+mod tests;
