@@ -379,7 +379,7 @@ mod tests {
     fn random_call_sequences_keep_every_promise() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut total = Counts::default();
-        for case in 0..if cfg!(debug_assertions) { 150 } else { 1500 } {
+        for case in 0..if cfg!(debug_assertions) { 500 } else { 1500 } {
             let len = 64 + case % 700;
             let bytes: Vec<u8> = (0..len)
                 .map(|_| {
