@@ -15,6 +15,8 @@ pub mod frames;
 pub mod handle;
 #[path = "../../../../core/ffi/src/kinds.rs"]
 pub mod kinds;
+#[path = "../../../../core/ffi/src/ptr.rs"]
+mod ptr;
 #[path = "../../../../core/ffi/src/record.rs"]
 pub mod record;
 #[path = "../../../../core/ffi/src/sequences.rs"]
