@@ -368,7 +368,7 @@ pub fn at(config: HoverConfig<f32>, period_us: u32) -> HoverConfig<f32> {
 pub type BuildFn = fn(&[Vec<HoverSample<f32>>], u32) -> Result<Box<dyn Identifier>, rotorid::Error>;
 
 /// A named identifier configuration to evaluate. Adding a variant is one entry in
-/// [`variants`].
+/// the catalogue (`catalogue.rs`).
 #[derive(Clone, Copy)]
 pub struct Variant {
     /// Name used in tables, JSON and file names.
