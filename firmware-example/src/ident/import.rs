@@ -1,271 +1,173 @@
-//! Warm start: the import of an exported state into the onboard identifiers, from `ImportChunk`s.
-//! The plain identifier's stream is staged whole; the fuzzy identifier's (10.5 KiB) is decoded
-//! one model at a time into a staging `RlsState` (see the module docs of [`super`]).
+//! Export and warm start over the link, for both pairs: the core's snapshot
+//! ([`rotorid::snapshot`], the C interface's export bytes) in `ExportChunk`s / `ImportChunk`s.
+//!
+//! Export streams straight from the estimators ([`msg::export_chunks`]). An import is staged
+//! whole in [`IMPORT_CAPACITY`] bytes of static RAM, then handed to the core's decoder
+//! ([`Snapshot::read_snapshot`]), which checks length, CRC, header (kind) and every value
+//! before it writes anything. Staged rather than decoded on the fly because the decoder reads
+//! the snapshot three times (CRC, checks, import) and a link cannot rewind; staging costs the
+//! largest snapshot, the paper fuzzy identifier's 10 524 B (the flight default's is 1 900 B),
+//! in place of the old per-model decoder's 6.2 KiB stage, and buys an import that is all or
+//! nothing for every identifier: any refusal leaves the identifier bit for bit unchanged.
 
-use rotorid::hover::{HoverModels, HoverSnapshot, StateModel};
-use rotorid::{PaperFuzzyIdentifier, PaperPlainIdentifier, RlsState};
-use rotorid_link::msg::{
-    self, state_len, DataChunk, Ident, IdentPair, MsgType, NackReason, StateDecoder, StateParts,
+use rotorid::snapshot::Snapshot;
+use rotorid::{
+    ExtendedPlainIdentifier, FlightIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
 };
-use rotorid_link::Reader;
+use rotorid_link::msg::{
+    self, snapshot_kind, DataChunk, Ident, IdentPair, ImportProgress, MsgType, NackReason, Staged,
+};
+use rotorid_link::SampleChain;
 
 use super::{Identification, Reply};
 
-/// Bytes of the plain identifier's snapshot stream (its four models' states).
-pub const PLAIN_SNAPSHOT_LEN: usize = state_len(PlainV::PARAMETERS, PlainV::FACTOR_LEN)
-    + state_len(PlainQ::PARAMETERS, PlainQ::FACTOR_LEN)
-    + state_len(PlainR::PARAMETERS, PlainR::FACTOR_LEN)
-    + state_len(PlainP::PARAMETERS, PlainP::FACTOR_LEN);
-
-/// Staging area of an import into the plain identifier.
-pub(super) struct ImportStage {
-    buf: [u8; PLAIN_SNAPSHOT_LEN],
-    received: usize,
-    total: u32,
-    crc: u32,
-}
-
-/// The state types of the two identifiers' models, named through the identifiers' types
-/// (their sizes are written nowhere else).
-type StateOf<M> = <M as StateModel<f32>>::State;
-type FuzzyV = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Velocity>;
-type FuzzyQ = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Pitch>;
-type FuzzyR = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Yaw>;
-type FuzzyP = StateOf<<PaperFuzzyIdentifier<f32> as HoverModels>::Roll>;
-type PlainV = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Velocity>;
-type PlainQ = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Pitch>;
-type PlainR = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Yaw>;
-type PlainP = StateOf<<PaperPlainIdentifier<f32> as HoverModels>::Roll>;
-
-const MODEL_LEN: [usize; 4] = [
-    state_len(FuzzyV::PARAMETERS, FuzzyV::FACTOR_LEN),
-    state_len(FuzzyQ::PARAMETERS, FuzzyQ::FACTOR_LEN),
-    state_len(FuzzyR::PARAMETERS, FuzzyR::FACTOR_LEN),
-    state_len(FuzzyP::PARAMETERS, FuzzyP::FACTOR_LEN),
-];
-/// Bytes of the fuzzy identifier's snapshot stream.
-pub const FUZZY_SNAPSHOT_LEN: usize = MODEL_LEN[0] + MODEL_LEN[1] + MODEL_LEN[2] + MODEL_LEN[3];
-
-/// The model of a fuzzy import being received.
-// Sized by the velocity model on purpose: this is the static staging area (no allocator),
-// one model at a time.
-#[allow(clippy::large_enum_variant)]
-enum FuzzyModel {
-    V(FuzzyV),
-    Q(FuzzyQ),
-    R(FuzzyR),
-    P(FuzzyP),
-}
-
-/// A fuzzy import in progress (one model staged at a time).
-pub(super) struct FuzzyImport {
-    model: usize,
-    /// The current model's bytes so far.
-    decoder: StateDecoder,
-    state: FuzzyModel,
-    received: usize,
-    total: u32,
-    crc: u32,
-    digest: crc::Digest<'static, u32>,
-    /// Whether a model has been written into the live identifier.
-    touched: bool,
-}
-
-static CRC32: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
-
-fn blank<const N: usize, const NP: usize>() -> RlsState<f32, N, NP> {
-    RlsState {
-        algorithm: rotorid::Algorithm::UdFactor,
-        theta: [0.0; N],
-        factor: [0.0; NP],
-        updates: 0,
+const fn max(a: usize, b: usize) -> usize {
+    if a > b {
+        a
+    } else {
+        b
     }
 }
 
-type PlainSnapshot = HoverSnapshot<PlainV, PlainQ, PlainR, PlainP>;
+/// Bytes of the import staging buffer: the largest snapshot of the four identifiers.
+pub const IMPORT_CAPACITY: usize = max(
+    max(
+        <PaperFuzzyIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+        <PaperPlainIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+    ),
+    max(
+        <FlightIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+        <ExtendedPlainIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+    ),
+);
 
-fn parse_plain(bytes: &[u8]) -> Option<PlainSnapshot> {
-    let mut r = Reader::new(bytes);
-    let velocity = msg::read_rls_state(&mut r).ok()?;
-    let pitch = msg::read_rls_state(&mut r).ok()?;
-    let yaw = msg::read_rls_state(&mut r).ok()?;
-    let roll = msg::read_rls_state(&mut r).ok()?;
-    r.finish().ok()?;
-    Some(HoverSnapshot {
-        velocity,
-        pitch,
-        yaw,
-        roll,
-    })
+/// Why a complete, intact snapshot was not imported.
+enum Refusal {
+    /// The identifier failed to build at start-up.
+    Missing,
+    /// The core refused it (kind, version or a value): nothing changed.
+    Core(rotorid::Error),
+}
+
+/// `bytes` into `id` under `kind`, all or nothing.
+fn import_into<I: Snapshot>(
+    id: &mut Result<I, rotorid::Error>,
+    kind: u32,
+    bytes: &[u8],
+) -> Result<(), Refusal> {
+    let id = id.as_mut().map_err(|_| Refusal::Missing)?;
+    id.read_snapshot(kind, bytes).map_err(Refusal::Core)
+}
+
+/// [`msg::export_chunks`] of `id`, or `false` if it failed to build.
+fn export_from<I: Snapshot>(
+    id: &Result<I, rotorid::Error>,
+    kind: u32,
+    ident: Ident,
+    out: &mut dyn Reply,
+) -> bool {
+    let Ok(id) = id else { return false };
+    msg::export_chunks(id, kind, ident, &mut |c| {
+        out.reply(MsgType::ExportChunk, &mut |w| msg::Payload::write(c, w))
+    });
+    true
 }
 
 impl Identification {
-    /// `ImportChunk`: stages chunks in order; the last one is CRC-checked and imported.
+    /// Bytes of the snapshot of `ident` of the active pair.
+    fn snapshot_size(&self, ident: Ident) -> usize {
+        match (self.pair(), ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => <FlightIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+            (IdentPair::Flight, _) => <ExtendedPlainIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+            (_, Ident::Fuzzy) => <PaperFuzzyIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+            (_, _) => <PaperPlainIdentifier<f32> as Snapshot>::SNAPSHOT_SIZE,
+        }
+    }
+
+    /// `ExportRequest`: the snapshot of `ident` of the active pair in `ExportChunk`s.
+    pub fn export(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
+        let kind = snapshot_kind(self.pair(), ident);
+        let sent = match (self.pair(), ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => export_from(&self.flight, kind, ident, out),
+            (IdentPair::Flight, _) => export_from(&self.extended_plain, kind, ident, out),
+            (_, Ident::Fuzzy) => export_from(&self.fuzzy, kind, ident, out),
+            (_, _) => export_from(&self.plain, kind, ident, out),
+        };
+        if !sent {
+            out.nack(seq, MsgType::ExportRequest.code(), NackReason::Refused);
+        }
+    }
+
+    /// `ImportChunk`: stages chunks in order; on the last, the stream CRC is checked and the
+    /// snapshot imported into `ident` of the active pair, all or nothing. `Nack` `BadPayload`
+    /// for a chunk that does not continue the import (order, length, CRC), `Refused` for a
+    /// snapshot the core refuses; either way the import is dropped and nothing changed. An
+    /// import restarts the identifier's sample chain and its prediction chain.
     pub fn import_chunk(&mut self, seq: u16, c: &DataChunk<'_>, out: &mut dyn Reply) {
         let code = MsgType::ImportChunk.code();
-        if self.pair() != IdentPair::Paper {
-            self.abort_fuzzy_import();
-            self.stage = None;
-            out.nack(seq, code, NackReason::Refused);
-            return;
-        }
-        if c.ident != Ident::Plain {
-            match self.fuzzy_chunk(c) {
-                Ok(()) => out.ack(seq, code),
-                Err(reason) => {
-                    self.abort_fuzzy_import();
-                    out.nack(seq, code, reason);
-                }
-            }
-            return;
-        }
-        self.abort_fuzzy_import();
         if c.offset == 0 {
-            if c.total as usize != PLAIN_SNAPSHOT_LEN {
-                self.stage = None;
+            let expected = self.snapshot_size(c.ident);
+            self.import = match ImportProgress::start(c, expected, IMPORT_CAPACITY) {
+                Ok(p) => Some(p),
+                Err(e) => {
+                    defmt::warn!("import refused: {}", e);
+                    self.import = None;
+                    out.nack(seq, code, NackReason::BadPayload);
+                    return;
+                }
+            };
+        }
+        let staged = match self.import.as_mut() {
+            Some(p) => p.take(&mut self.import_buf, c),
+            None => Err(msg::StageError::OutOfOrder {
+                expected: 0,
+                got: c.offset,
+            }),
+        };
+        let len = match staged {
+            Ok(Staged::More) => {
+                out.ack(seq, code);
+                return;
+            }
+            Ok(Staged::Complete { len }) => len,
+            Err(e) => {
+                defmt::warn!("import chunk refused: {}", e);
+                self.import = None;
                 out.nack(seq, code, NackReason::BadPayload);
                 return;
             }
-            self.stage = Some(ImportStage {
-                buf: [0; PLAIN_SNAPSHOT_LEN],
-                received: 0,
-                total: c.total,
-                crc: c.crc,
-            });
-        }
-        let Some(st) = self.stage.as_mut() else {
-            out.nack(seq, code, NackReason::BadPayload);
-            return;
         };
-        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
-        let end = st.received + c.data.len();
-        let dst = st.buf.get_mut(st.received..end);
-        match (in_order, dst) {
-            (true, Some(dst)) => {
-                dst.copy_from_slice(c.data);
-                st.received = end;
-            }
-            _ => {
-                self.stage = None;
-                out.nack(seq, code, NackReason::BadPayload);
-                return;
-            }
-        }
-        if st.received < st.total as usize {
-            out.ack(seq, code);
-            return;
-        }
-        let result = if msg::stream_crc(&st.buf) != st.crc {
-            Err(NackReason::BadPayload)
-        } else {
-            parse_plain(&st.buf).ok_or(NackReason::BadPayload)
+        self.import = None;
+        let bytes = self.import_buf.get(..len).unwrap_or_default();
+        let kind = snapshot_kind(self.pair, c.ident);
+        let (result, chain) = match (self.pair, c.ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => (
+                import_into(&mut self.flight, kind, bytes),
+                &mut self.fuzzy_chain,
+            ),
+            (IdentPair::Flight, _) => (
+                import_into(&mut self.extended_plain, kind, bytes),
+                &mut self.plain_chain,
+            ),
+            (_, Ident::Fuzzy) => (
+                import_into(&mut self.fuzzy, kind, bytes),
+                &mut self.fuzzy_chain,
+            ),
+            (_, _) => (
+                import_into(&mut self.plain, kind, bytes),
+                &mut self.plain_chain,
+            ),
         };
-        self.stage = None;
-        let plain = &mut self.plain;
-        match result.and_then(|snap| {
-            plain
-                .as_mut()
-                .map_err(|e| *e)
-                .and_then(|p| p.import(&snap))
-                .map_err(|e| {
-                    defmt::warn!("import refused by the core: {}", e);
-                    NackReason::Refused
-                })
-        }) {
-            Ok(()) => out.ack(seq, code),
-            Err(reason) => out.nack(seq, code, reason),
-        }
-    }
-
-    /// Drops a fuzzy import in progress; if it had already written a model, the fuzzy
-    /// identifier is reset (never a mix of old and new models).
-    pub(super) fn abort_fuzzy_import(&mut self) {
-        if let Some(st) = self.fuzzy_stage.take() {
-            if st.touched {
-                if let Ok(f) = &mut self.fuzzy {
-                    f.reset();
-                }
+        match result {
+            Ok(()) => {
+                *chain = SampleChain::new();
+                out.ack(seq, code);
             }
-        }
-    }
-
-    /// One chunk of a fuzzy import. `Ok` = acknowledge (the last chunk: all imported).
-    fn fuzzy_chunk(&mut self, c: &DataChunk<'_>) -> Result<(), NackReason> {
-        if c.offset == 0 {
-            self.abort_fuzzy_import();
-            if c.total as usize != FUZZY_SNAPSHOT_LEN {
-                return Err(NackReason::BadPayload);
-            }
-            self.fuzzy_stage = Some(FuzzyImport {
-                model: 0,
-                decoder: StateDecoder::new(),
-                state: FuzzyModel::V(blank()),
-                received: 0,
-                total: c.total,
-                crc: c.crc,
-                digest: CRC32.digest(),
-                touched: false,
-            });
-        }
-        let Some(st) = self.fuzzy_stage.as_mut() else {
-            return Err(NackReason::BadPayload);
-        };
-        let in_order = c.offset as usize == st.received && c.total == st.total && c.crc == st.crc;
-        if !in_order || st.received + c.data.len() > st.total as usize {
-            return Err(NackReason::BadPayload);
-        }
-        st.digest.update(c.data);
-        st.received += c.data.len();
-        let Ok(f) = &mut self.fuzzy else {
-            return Err(NackReason::Refused);
-        };
-        for &b in c.data {
-            let parts = match &mut st.state {
-                FuzzyModel::V(s) => StateParts::from(s),
-                FuzzyModel::Q(s) => StateParts::from(s),
-                FuzzyModel::R(s) | FuzzyModel::P(s) => StateParts::from(s),
-            };
-            if st.decoder.push(parts, b).is_err() {
-                return Err(NackReason::BadPayload);
-            }
-            if st.decoder.position() < MODEL_LEN.get(st.model).copied().unwrap_or(0) {
-                continue;
-            }
-            // A whole model: check and import it, then stage the next.
-            if !st.touched {
-                f.end_chain();
-                st.touched = true;
-            }
-            let r = match &st.state {
-                FuzzyModel::V(s) => f.velocity_model_mut().import(s),
-                FuzzyModel::Q(s) => f.pitch_model_mut().import(s),
-                FuzzyModel::R(s) => f.yaw_model_mut().import(s),
-                FuzzyModel::P(s) => f.roll_model_mut().import(s),
-            };
-            if let Err(e) = r {
+            Err(Refusal::Core(e)) => {
                 defmt::warn!("import refused by the core: {}", e);
-                return Err(NackReason::Refused);
+                out.nack(seq, code, NackReason::Refused);
             }
-            st.model += 1;
-            st.decoder = StateDecoder::new();
-            match st.model {
-                1 => st.state = FuzzyModel::Q(blank()),
-                2 => st.state = FuzzyModel::R(blank()),
-                3 => st.state = FuzzyModel::P(blank()),
-                _ => {}
-            }
-        }
-        if st.received < st.total as usize {
-            return Ok(());
-        }
-        let done = st.model == MODEL_LEN.len();
-        let crc_ok = st.digest.clone().finalize() == st.crc;
-        if done && crc_ok {
-            // Complete: nothing to undo any more.
-            self.fuzzy_stage = None;
-            Ok(())
-        } else {
-            Err(NackReason::BadPayload)
+            Err(Refusal::Missing) => out.nack(seq, code, NackReason::Refused),
         }
     }
 }
