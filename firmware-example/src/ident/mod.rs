@@ -14,7 +14,7 @@
 //! * `ParamsRequest` → `Params`…: θ, diag(P) and a summary of each of the four models.
 //! * `ExportRequest` → `ExportChunk`…: the identifier's snapshot, the core's one format
 //!   (`rotorid::snapshot`, the C interface's export bytes under the same kind code), read
-//!   straight from the estimators, for either pair (`import` module).
+//!   straight from the estimators, for either pair (`snapshot` module).
 //! * `ImportChunk`…: warm start, for either pair. The snapshot is staged whole (10 524 B of
 //!   static RAM, the largest identifier's), then imported by the core's decoder, which checks
 //!   everything before it writes anything: a refused import (chunk out of order, CRC, a
@@ -43,9 +43,9 @@ use rotorid_link::msg::{
 };
 use rotorid_link::{SampleChain, Writer};
 
-mod import;
+mod snapshot;
 
-pub use import::IMPORT_CAPACITY;
+pub use snapshot::IMPORT_CAPACITY;
 
 /// Why a `Reset` was not carried out.
 #[derive(Clone, Copy, Debug, PartialEq, defmt::Format)]
@@ -73,7 +73,7 @@ pub struct Identification {
     fuzzy_chain: SampleChain,
     plain_chain: SampleChain,
     form: RlsForm,
-    /// The import being staged, if any, and its bytes (`import` module).
+    /// The import being staged, if any, and its bytes (`snapshot` module).
     import: Option<ImportProgress>,
     import_buf: [u8; IMPORT_CAPACITY],
 }
