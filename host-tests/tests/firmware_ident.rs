@@ -526,7 +526,7 @@ fn with_word(bytes: &[u8], at: usize, word: u32) -> Vec<u8> {
 fn flight_pair_exports_and_imports_over_the_link_bit_for_bit() {
     use rotorid::snapshot::{Snapshot, MAGIC};
     use rotorid::FlightIdentifier;
-    use rotorid_link::msg::{stream_crc, IdentPair, KIND_EXTENDED_PLAIN, KIND_FLIGHT};
+    use rotorid_link::msg::{stream_crc, DataChunk, IdentPair, KIND_EXTENDED_PLAIN, KIND_FLIGHT};
     use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
     use rotorid_sim::flights::to_hover_samples;
     let flight =
@@ -652,6 +652,23 @@ fn flight_pair_exports_and_imports_over_the_link_bit_for_bit() {
         Err(bad_payload)
     );
     assert_eq!(idents.map(|i| b.export(i).expect("export")), before);
+    // An import left halfway (3 of its 9 chunks acknowledged, then other requests): staged
+    // only, nothing imported.
+    for k in 0..3 {
+        let at = k * DataChunk::MAX_DATA;
+        let c = DataChunk {
+            ident: Ident::Fuzzy,
+            offset: at as u32,
+            total: s.len() as u32,
+            crc: stream_crc(s),
+            data: &s[at..at + DataChunk::MAX_DATA],
+        };
+        b.link
+            .send(MsgType::ImportChunk.code(), &payload(|w| c.write(w)))
+            .expect("send");
+        assert_eq!(b.link.recv().expect("reply").kind(), Some(MsgType::Ack));
+    }
+    assert_eq!(idents.map(|i| b.export(i).expect("export")), before);
     // The real imports, on both sides, and B continues as A did.
     for (i, s) in idents.iter().zip(&snaps) {
         assert_eq!(
@@ -662,6 +679,12 @@ fn flight_pair_exports_and_imports_over_the_link_bit_for_bit() {
         b.mirror.import(*i, s).expect("host import");
         assert_eq!(&b.export(*i).expect("export"), s, "{i:?}");
     }
+    // The import restarted the prediction chains: no free run from the old model's last
+    // prediction (refused on both sides, nothing changed).
+    let none = b
+        .stream(&messages(&flight[400..401], SampleMode::FreeRun), |_| {})
+        .unwrap_or_else(|e| panic!("{}", Chain(&e)));
+    assert_eq!((none.estimates.len(), none.refused.len()), (0, 1));
     let rb = b
         .stream(&next, |_| {})
         .unwrap_or_else(|e| panic!("{}", Chain(&e)));
