@@ -46,7 +46,10 @@ pub const fn snapshot_kind(pair: IdentPair, ident: Ident) -> u32 {
 /// byte in the snapshot), total u32 (snapshot length), crc u32 (CRC-32/ISO-HDLC of the whole
 /// snapshot, trailer included, the same in every chunk), then up to [`DataChunk::MAX_DATA`]
 /// bytes. Chunks travel in order; the receiver checks offsets, length and CRC before it
-/// hands the snapshot to the core.
+/// hands the snapshot to the core. Since a snapshot ends with the CRC-32 of the bytes before
+/// it, `crc` of an intact one is always CRC-32's residue, 0x2144DF1C: the check is the
+/// snapshot's own CRC, made before staging ends. The field stays so that the layout is
+/// version 1's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DataChunk<'a> {
@@ -407,6 +410,7 @@ mod tests {
             assert_eq!(head.offset as usize, bytes.len());
             assert_eq!(head.total as usize, want.len());
             assert_eq!(head.crc, stream_crc(&want));
+            assert_eq!(head.crc, 0x2144_DF1C, "CRC-32 residue (see DataChunk)");
             assert_eq!(head.ident, Ident::Fuzzy);
             assert!(!data.is_empty() && data.len() <= DataChunk::MAX_DATA);
             bytes.extend_from_slice(data);
