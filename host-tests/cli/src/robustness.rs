@@ -244,12 +244,89 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          envelope pair a free run at most {env} of extended plain's on q, r and p each, and on \
          at least two of the three velocities. The last column counts the flight default's \
          free-run windows whose state left the core's sample limits (a diverging model).\n\n\
-         Made by:\n\n```\n{how}\n```\n\n{}{}{}",
+         Made by:\n\n```\n{how}\n```\n\n{}{}{}{}",
         robustness_markdown(runs),
+        choice_section(runs),
         second_order_section(runs),
         measured_velocity_section(runs),
         tol = HOVER_TOLERANCE,
         env = ENVELOPE_TARGET,
+    )
+}
+
+/// The model `rotorid identify`'s verdict chooses on each plant (the flight default, its
+/// terms selected from the data, its one-rule form or extended plain), its free run against
+/// extended plain's and against holding the measured state, and the terms the selection
+/// switched off. Empty when no run has a verdict.
+pub fn choice_markdown(runs: &[PlantRuns]) -> String {
+    let mut s = String::new();
+    for family in first_seen(runs.iter().map(|r| r.family.as_str())) {
+        let mut table = String::new();
+        let (mut n, mut beats_hold, mut not_worse) = (0, 0, 0);
+        for r in runs.iter().filter(|r| r.family == family) {
+            let mut cells = Vec::new();
+            for m in [&r.hover, &r.envelope] {
+                let find = |n: &str| m.variants.iter().find(|v| v.name == n);
+                let (Some(verdict), Some(base), Some(flight)) =
+                    (m.verdict.as_ref(), find(BASELINE), find(FLIGHT))
+                else {
+                    continue;
+                };
+                let Some(chosen) = find(&verdict.model) else {
+                    continue;
+                };
+                let (worst, state) = worst_ratio(&chosen.free_run, &base.free_run);
+                let r_hold = chosen.free_run[4] / chosen.hold_free_run[4];
+                let (flight_worst, _) = worst_ratio(&chosen.free_run, &flight.free_run);
+                cells.push(format!(
+                    "{} | {worst:.2} ({state}) | {r_hold:.2} | {flight_worst:.2} | {}",
+                    verdict.model,
+                    if verdict.terms_off.is_empty() {
+                        "none".to_string()
+                    } else {
+                        verdict.terms_off.join(", ")
+                    }
+                ));
+                n += 1;
+                beats_hold += usize::from(r_hold < 1.0);
+                not_worse += usize::from(flight_worst <= HOVER_TOLERANCE);
+            }
+            if cells.len() == 2 {
+                table += &format!("| {} | {} | {} |\n", r.label, cells[0], cells[1]);
+            }
+        }
+        if n == 0 {
+            continue;
+        }
+        s += &format!(
+            "### {family}: the verdict's choice\n\n\
+             | plant | hover: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | terms off | envelope: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | terms off |\n\
+             |---|---|---:|---:|---:|---|---|---:|---:|---:|---|\n{table}\n\
+             Of {n} runs (hover and envelope): the chosen model's yaw free run beats holding the \
+             measured rate on {beats_hold}; it is within {tol:.0} % of the flight default on every \
+             state on {not_worse}.\n\n",
+            tol = (HOVER_TOLERANCE - 1.0) * 100.0,
+        );
+    }
+    s
+}
+
+/// The section on the verdict's choice ([`choice_markdown`]).
+fn choice_section(runs: &[PlantRuns]) -> String {
+    let tables = choice_markdown(runs);
+    if tables.is_empty() {
+        return tables;
+    }
+    format!(
+        "## The model the verdict chooses\n\n\
+         `rotorid identify` flies the candidate with the lowest free run relative to holding the \
+         measured state on the verification flight: the flight default, `flight selected` (its \
+         optional terms chosen from the training data by cross-validated free run, \
+         docs/cli.md), `flight plain` or extended plain. Per plant and pair: the chosen model, \
+         its worst free-run ratio to extended plain's, its yaw free run against holding the \
+         measured rate, its worst ratio to the flight default's free run (above 1: the choice \
+         is worse than the default on some state, which can happen because the verdict weighs \
+         all axes together), and the terms the selection switched off.\n\n{tables}"
     )
 }
 
