@@ -12,9 +12,10 @@ from rotorid import fleet
 
 
 def timed(f):
-    start = time.perf_counter()
+    """f's result, wall time (s) and this process's CPU time over it (s, every thread)."""
+    start, cpu = time.perf_counter(), time.process_time()
     out = f()
-    return out, time.perf_counter() - start
+    return out, time.perf_counter() - start, time.process_time() - cpu
 
 
 def main() -> None:
@@ -30,17 +31,19 @@ def main() -> None:
             paths.append(p)
         reference = None
         for workers in (1, 2):
-            results, s = timed(lambda: rotorid.identify_many(paths, workers=workers, progress=False, plots=False))
+            load = os.getloadavg()[0]
+            results, s, cpu = timed(lambda: rotorid.identify_many(paths, workers=workers, progress=False, plots=False))
             jsons = [r.to_json() for r in results]
             assert reference is None or jsons == reference, "results depend on the worker count"
             reference = jsons
-            rows.append(("identify_many (threads)", workers, s))
+            rows.append(("identify_many (threads)", workers, s, f"{cpu / s:.2f}", load))
         for workers in (1, 2):
+            load = os.getloadavg()[0]
             with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None) as cluster, Client(cluster) as client:
                 client.gather(client.map(fleet.identify_log, paths[:2], ["warm"] * 2, [0, 1], pure=False))
                 futures = lambda: client.gather(client.map(fleet.identify_log, paths, ["x"] * n, list(range(n))))
-                _, s = timed(futures)
-            rows.append(("Dask LocalCluster (processes)", workers, s))
+                _, s, _ = timed(futures)
+            rows.append(("Dask LocalCluster (processes)", workers, s, "–", load))
     lines = [
         "# rotorid for Python: throughput",
         "",
@@ -51,16 +54,20 @@ def main() -> None:
         "released inside the Rust call. Dask: `client.map(rotorid.fleet.identify_log, paths)` on a",
         "`LocalCluster(n_workers=W, threads_per_worker=1)` (its start-up and a warm-up task not timed).",
         "",
-        "| how | workers | seconds | logs/s |",
-        "| --- | ---: | ---: | ---: |",
+        "CPU/wall: this process's CPU time (all threads) over the wall time, the cores the threads",
+        "really got (Dask's work runs in other processes). Load: the machine's 1-minute load",
+        "average just before (other jobs' too).",
+        "",
+        "| how | workers | seconds | logs/s | CPU/wall | load |",
+        "| --- | ---: | ---: | ---: | ---: | ---: |",
     ]
-    for how, w, s in rows:
-        lines.append(f"| {how} | {w} | {s:.1f} | {n / s:.2f} |")
+    for how, w, s, ratio, load in rows:
+        lines.append(f"| {how} | {w} | {s:.1f} | {n / s:.2f} | {ratio} | {load:.1f} |")
     lines += [
         "",
         f"Machine: {os.cpu_count()} CPUs ({platform.machine()}, {platform.system()}), Python "
-        f"{platform.python_version()}; shared with other jobs when measured, so the speed-up from 1",
-        "to 2 workers is a lower bound of what an idle machine gives.",
+        f"{platform.python_version()}; shared with other jobs when measured (see the load), so the",
+        "speed-up from 1 to 2 workers is a lower bound of what an idle machine gives.",
         "",
         "Regenerate with `scripts/python.sh` (builds and installs the wheel) then",
         f"`scripts/python_bench.sh {n}`.",

@@ -190,3 +190,40 @@ pub fn simulate(args: &SimulateArgs) -> Result<Vec<SensorSample>, SimulateError>
     }
     .map_err(SimulateError::Simulation)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flight(power: f64) -> Result<Vec<SensorSample>, SimulateError> {
+        simulate(&SimulateArgs {
+            duration: Some(8.0),
+            cyclic_power: power,
+            ..SimulateArgs::new(FlightKind::Verification, 3)
+        })
+    }
+
+    #[test]
+    fn cyclic_power_one_is_the_undamaged_flight_and_others_differ() {
+        let base = flight(1.0).unwrap();
+        let plain = simulate(&SimulateArgs {
+            duration: Some(8.0),
+            ..SimulateArgs::new(FlightKind::Verification, 3)
+        })
+        .unwrap();
+        assert_eq!(base, plain);
+        let weak = flight(0.5).unwrap();
+        assert_eq!(weak.len(), base.len());
+        assert_ne!(weak, base);
+    }
+
+    #[test]
+    fn cyclic_power_out_of_range_is_refused() {
+        for bad in [0.0, 0.09, 2.5, f64::NAN, f64::INFINITY] {
+            assert!(
+                matches!(flight(bad), Err(SimulateError::CyclicPower(_))),
+                "{bad}"
+            );
+        }
+    }
+}
