@@ -169,7 +169,11 @@ def hover_samples(df: pd.DataFrame) -> Dict[str, np.ndarray]:
     """The core's samples of a log DataFrame (``read_log``/``simulate`` columns), as
     ``rotorid identify`` converts them: a dict of ``time_us`` (n, uint64), ``attitude``
     (n×3 rad), ``velocity`` (n×3 m/s paper axes), ``rates`` (n×3 deg/s ``[q r p]``),
-    ``controls`` (n×4), ready for ``Identifier.step_many(**samples)``."""
+    ``controls`` (n×4), ready for ``Identifier.step_many(**samples)``.
+
+    A log of several segments has gaps between them, which a step refuses
+    (``TimeStepError``): step each ``df.groupby("segment")`` part, calling ``resume`` with
+    the first sample of every part after the first."""
     block = np.column_stack([_float_column(df, c) for c in LOG_COLUMNS])
     times, floats = _rotorid.hover_block(np.ascontiguousarray(block).tobytes())
     t = np.frombuffer(times, dtype="<u8").copy()
