@@ -197,8 +197,9 @@ stack of one step (the service's peak is in the memory line above).
 ${by_crate}
 
 Budgets: flash ≤ 256 KiB (text), RAM ≤ 64 KiB (static + stack). The firmware links with the
-repository's \`memory.x\` (64 KiB RAM). Static RAM includes the 6.2 KiB staging \`RlsState\` of
-the fuzzy import (one model at a time). The start-up figure above is the stack used while both
+repository's \`memory.x\` (64 KiB RAM). Static RAM includes the 10 524 B buffer an import over
+the link is staged in (the largest snapshot, the paper fuzzy identifier's; docs/protocol.md).
+The start-up figure above is the stack used while both
 identifiers are built in place in their static (the deepest moment of the firmware's life).
 
 ## Where the instructions go

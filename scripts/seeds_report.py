@@ -11,7 +11,8 @@ work, pairs, seconds = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 PLANTS = [("xcell60", "X-Cell 60"), ("flybarless600", "flybarless 600")]
 REGIMES = [("hover", "hover (identification flight, 300 s verification)"),
            ("envelope", "envelope (hover to 12 m/s forward, ±5 m/s sideways, ±3 m/s vertical)")]
-MODELS = ["flight", "flight plain", "extended plain"]
+MODELS = ["flight", "flight selected", "flight plain", "extended plain"]
+CHOICE = "the verdict's choice"
 STATES = ["v_x", "v_y", "v_z", "q", "r", "p"]
 
 
@@ -21,7 +22,10 @@ def load(plant, k, regime):
         return None
     data = json.loads(path.read_text())
     variants = {v["name"]: v for v in data["variants"]}
-    return variants, data.get("verdict", {}).get("model")
+    verdict = data.get("verdict", {})
+    if verdict.get("model") in variants:
+        variants[CHOICE] = variants[verdict["model"]]
+    return variants, verdict.get("model"), verdict.get("terms_off", [])
 
 
 def fmt(values, worst_is_max=True):
@@ -49,20 +53,25 @@ scored = 0
 for plant, title in PLANTS:
     for regime, what in REGIMES:
         runs = [load(plant, k, regime) for k in range(1, pairs + 1)]
-        ok = [r for r in runs if r is not None]
+        ok = [r[:2] for r in runs if r is not None]
+        off = [t for r in runs if r is not None for t in r[2]]
         scored += len(ok)
         print()
         print(f"## {title}, {what}")
         print()
         print(f"Pairs scored: {len(ok)} of {pairs}. Verdicts: " + ", ".join(
             f"{m} {sum(1 for _, v in ok if v == m)}" for m in sorted({v for _, v in ok if v})) + ".")
+        print()
+        counts = sorted({t: off.count(t) for t in off}.items(), key=lambda kv: (-kv[1], kv[0]))
+        print("Terms the selection switched off (`flight selected`; pairs out of "
+              f"{len(ok)}): " + (", ".join(f"{t} {n}" for t, n in counts) or "none") + ".")
         for base, label in [("extended plain", "extended plain's"), (None, "holding the measured state")]:
             print()
             print(f"Free run ÷ {label} (median / worst over the pairs):")
             print()
             print("| model | " + " | ".join(STATES) + " |")
             print("|---|" + "---:|" * len(STATES))
-            for model in MODELS:
+            for model in MODELS + [CHOICE]:
                 if base == model:
                     continue
                 cells = []

@@ -13,6 +13,7 @@ use std::collections::VecDeque;
 use std::fmt;
 
 use rotorid::hover::{flight_sets, HoverSample};
+use rotorid::snapshot::Snapshot;
 use rotorid::{
     ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,
@@ -283,32 +284,43 @@ impl Mirror {
         }
     }
 
-    /// What `ExportRequest{ident}` streams.
+    /// What `ExportRequest{ident}` streams: the core's snapshot of `ident` of the active
+    /// pair under its kind code ([`msg::snapshot_kind`]), the bytes the C interface's
+    /// `rotorid_export` writes for the same identifier.
     pub fn export(&self, ident: Ident) -> Vec<u8> {
-        let views = match ident {
-            Ident::Plain => {
-                let p = &self.plain;
-                [
-                    p.velocity_model().ts().rls().view(),
-                    p.pitch_model().ts().rls().view(),
-                    p.yaw_model().ts().rls().view(),
-                    p.roll_model().ts().rls().view(),
-                ]
-            }
-            _ => {
-                let f = &self.fuzzy;
-                [
-                    f.velocity_model().ts().rls().view(),
-                    f.pitch_model().ts().rls().view(),
-                    f.yaw_model().ts().rls().view(),
-                    f.roll_model().ts().rls().view(),
-                ]
-            }
+        fn bytes<I: Snapshot>(id: &I, kind: u32) -> Vec<u8> {
+            let mut out = vec![0u8; I::SNAPSHOT_SIZE];
+            // The buffer is the snapshot's size: cannot be too short.
+            let _ = id.write_snapshot(kind, &mut out);
+            out
+        }
+        let kind = msg::snapshot_kind(self.pair, ident);
+        match (self.pair, ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => bytes(&self.flight, kind),
+            (IdentPair::Flight, _) => bytes(&self.extended_plain, kind),
+            (_, Ident::Fuzzy) => bytes(&self.fuzzy, kind),
+            (_, _) => bytes(&self.plain, kind),
+        }
+    }
+
+    /// What a complete `ImportChunk` stream of `bytes` does to `ident` of the active pair:
+    /// the core imports the snapshot (all or nothing) and, if it did, the identifier's
+    /// prediction chain restarts.
+    pub fn import(&mut self, ident: Ident, bytes: &[u8]) -> Result<(), rotorid::Error> {
+        let kind = msg::snapshot_kind(self.pair, ident);
+        let r = match (self.pair, ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => self.flight.read_snapshot(kind, bytes),
+            (IdentPair::Flight, _) => self.extended_plain.read_snapshot(kind, bytes),
+            (_, Ident::Fuzzy) => self.fuzzy.read_snapshot(kind, bytes),
+            (_, _) => self.plain.read_snapshot(kind, bytes),
         };
-        let mut out = vec![0u8; msg::snapshot_len(&views)];
-        let n = msg::snapshot_read(&views, 0, &mut out);
-        out.truncate(n);
-        out
+        if r.is_ok() {
+            match ident {
+                Ident::Fuzzy => self.fuzzy_chain = SampleChain::new(),
+                _ => self.plain_chain = SampleChain::new(),
+            }
+        }
+        r
     }
 }
 

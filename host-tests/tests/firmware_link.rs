@@ -140,8 +140,9 @@ fn garbage_between_good_frames_is_counted_and_survived() {
                 n_short += 1;
             }
             4 => {
-                // Intact frame of protocol version 2 (seq 0, not ours: does not count as loss).
-                let mut raw = vec![2u8, MsgType::Ping.code(), 0, 0, 9, 9];
+                // Intact frame of the next protocol version (seq 0, not ours: does not count
+                // as loss).
+                let mut raw = vec![rotorid_link::VERSION + 1, MsgType::Ping.code(), 0, 0, 9, 9];
                 raw.extend_from_slice(&crc32(&raw).to_le_bytes());
                 let mut enc = cobs_encode(&raw);
                 enc.push(0);

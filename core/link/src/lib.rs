@@ -97,8 +97,9 @@ pub use sample_chain::{Answer, SampleChain};
 pub use stats::{LinkStats, SeqTracker};
 
 /// Protocol version carried in byte 0 of every raw frame. Frames with another version and a
-/// valid CRC are rejected and counted as [`FrameError::UnknownVersion`].
-pub const VERSION: u8 = 1;
+/// valid CRC are rejected and counted as [`FrameError::UnknownVersion`]. 2 since export and
+/// import carry the core's snapshot (`docs/protocol.md`, "Versions").
+pub const VERSION: u8 = 2;
 /// Largest payload of one frame, in bytes.
 pub const MAX_PAYLOAD: usize = 240;
 /// Header bytes before the payload: version, message type, sequence number (2).

@@ -12,17 +12,17 @@
 //!   and the reply says which `rotorid::Error`. A `FreeRun` sample while an identifier has
 //!   no prediction to continue from is refused (`Nack` `Refused`), nothing changed.
 //! * `ParamsRequest` → `Params`…: θ, diag(P) and a summary of each of the four models.
-//! * `ExportRequest` → `ExportChunk`…: the identifier's state as a byte stream with CRC,
-//!   read straight from the estimators (no copy of the 10.5 KiB state).
-//! * `ImportChunk`…: warm start. Plain identifier: staged whole, CRC-checked, then imported
-//!   atomically. Fuzzy identifier (10.5 KiB stream): decoded one model at a time into a
-//!   staging `RlsState` (at most the velocity model's 6.2 KiB), each model checked and
-//!   imported when its last byte arrives, the stream CRC checked at the end. Any failure
-//!   (a model the core refuses, a chunk out of order, the CRC, another request arriving
-//!   mid-import) resets the fuzzy identifier, so it never runs with a mix of old and new
-//!   models (see `docs/protocol.md`).
-//! * Params, export and import are implemented for the paper pair; while the flight pair is
-//!   active they are refused (`Nack` `Refused`), see `docs/protocol.md`.
+//! * `ExportRequest` → `ExportChunk`…: the identifier's snapshot, the core's one format
+//!   (`rotorid::snapshot`, the C interface's export bytes under the same kind code), read
+//!   straight from the estimators, for either pair (`snapshot` module).
+//! * `ImportChunk`…: warm start, for either pair. The snapshot is staged whole (10 524 B of
+//!   static RAM, the largest identifier's), then imported by the core's decoder, which checks
+//!   everything before it writes anything: a refused import (chunk out of order, CRC, a
+//!   snapshot of another identifier type, a value the core refuses) leaves the identifier
+//!   bit for bit unchanged (see `docs/protocol.md`).
+//! * Params are implemented for the paper pair; while the flight pair is active they are
+//!   refused (`Nack` `Refused`): a locally learnt model has one estimator per rule, which the
+//!   `Params` message (one per model) cannot name.
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
 //! * `Compensate` → `Ack`: the active pair's rate models compensated for the gyros' noise
 //!   (`HoverIdentifier::compensate`), the parameters to free-run with.
@@ -38,15 +38,14 @@ use rotorid::{
     PaperPlainIdentifier,
 };
 use rotorid_link::msg::{
-    self, DataChunk, IdOutput, Ident, IdentPair, MsgType, NackReason, ParamField, ParamsChunk,
+    self, IdOutput, Ident, IdentPair, ImportProgress, MsgType, NackReason, ParamField, ParamsChunk,
     Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{SampleChain, Writer};
 
-mod import;
+mod snapshot;
 
-use import::{FuzzyImport, ImportStage};
-pub use import::{FUZZY_SNAPSHOT_LEN, PLAIN_SNAPSHOT_LEN};
+pub use snapshot::IMPORT_CAPACITY;
 
 /// Why a `Reset` was not carried out.
 #[derive(Clone, Copy, Debug, PartialEq, defmt::Format)]
@@ -74,8 +73,9 @@ pub struct Identification {
     fuzzy_chain: SampleChain,
     plain_chain: SampleChain,
     form: RlsForm,
-    stage: Option<ImportStage>,
-    fuzzy_stage: Option<FuzzyImport>,
+    /// The import being staged, if any, and its bytes (`snapshot` module).
+    import: Option<ImportProgress>,
+    import_buf: [u8; IMPORT_CAPACITY],
 }
 
 /// `paper_fuzzy(c)` written straight into `dst` (the call's return slot is `dst`).
@@ -187,8 +187,9 @@ impl Identification {
             core::ptr::addr_of_mut!((*p).fuzzy_chain).write(SampleChain::new());
             core::ptr::addr_of_mut!((*p).plain_chain).write(SampleChain::new());
             core::ptr::addr_of_mut!((*p).form).write(RlsForm::UdDefault);
-            core::ptr::addr_of_mut!((*p).stage).write(None);
-            core::ptr::addr_of_mut!((*p).fuzzy_stage).write(None);
+            core::ptr::addr_of_mut!((*p).import).write(None);
+            // Zeroed in place: a `[0; N]` value would be built on the stack first.
+            core::ptr::addr_of_mut!((*p).import_buf).write_bytes(0, 1);
         }
         // SAFETY: every field was initialised above.
         let engine = unsafe { slot.assume_init_mut() };
@@ -207,7 +208,6 @@ impl Identification {
         m: &SampleMsg,
         measure: &mut dyn FnMut(&mut dyn FnMut()) -> u64,
     ) -> Option<msg::Estimate> {
-        self.abort_fuzzy_import();
         if m.mode == SampleMode::FreeRun
             && !(self.fuzzy_chain.can_free_run() && self.plain_chain.can_free_run())
         {
@@ -237,8 +237,7 @@ impl Identification {
     /// ([`rotorid::HoverIdentifier::reconfigure`]): nothing is rebuilt or moved, so a Reset
     /// costs no stack beyond the call itself.
     pub fn reset(&mut self, form: RlsForm, pair: IdentPair) -> Result<(), ResetError> {
-        self.stage = None;
-        self.fuzzy_stage = None;
+        self.import = None;
         self.fuzzy_chain = SampleChain::new();
         self.plain_chain = SampleChain::new();
         let (Ok(f), Ok(p), Ok(fl), Ok(xp)) = (
@@ -271,7 +270,6 @@ impl Identification {
     /// the gyros' white noise σ `[q r p]` (deg/s) in place. The first is checked before the
     /// second is changed, so on `Err` (σ refused) nothing changed.
     pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), Error> {
-        self.abort_fuzzy_import();
         match self.pair {
             IdentPair::Flight => {
                 compensate_both(&mut self.flight, &mut self.extended_plain, gyro_noise)
@@ -331,41 +329,6 @@ impl Identification {
                 f.for_each_rls(|m, _, v| send_model_params(out, ident, m.index(), &v));
             }
             _ => out.nack(seq, MsgType::ParamsRequest.code(), NackReason::Refused),
-        }
-    }
-
-    /// `ExportRequest`: the snapshot stream in `ExportChunk`s.
-    pub fn export(&self, seq: u16, ident: Ident, out: &mut dyn Reply) {
-        if self.pair != IdentPair::Paper {
-            out.nack(seq, MsgType::ExportRequest.code(), NackReason::Refused);
-            return;
-        }
-        let views = match ident {
-            Ident::Plain => self.plain_views(),
-            _ => self.fuzzy_views(),
-        };
-        let Some(views) = views else {
-            out.nack(seq, MsgType::ExportRequest.code(), NackReason::Refused);
-            return;
-        };
-        let total = msg::snapshot_len(&views);
-        let crc = msg::snapshot_crc(&views);
-        let mut offset = 0usize;
-        loop {
-            let mut data = [0u8; DataChunk::MAX_DATA];
-            let n = msg::snapshot_read(&views, offset, &mut data);
-            let chunk = DataChunk {
-                ident,
-                offset: offset as u32,
-                total: total as u32,
-                crc,
-                data: data.get(..n).unwrap_or_default(),
-            };
-            out.reply(MsgType::ExportChunk, &mut |w| chunk.write(w));
-            offset += n;
-            if n == 0 || offset >= total {
-                break;
-            }
         }
     }
 

@@ -11,11 +11,16 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::experiments::VariantResult;
+use crate::experiments::{TermMask, VariantResult};
 use rotorid_sim::plant::SensorSample;
 
 /// The candidates, in order of preference when their scores tie.
-pub const CANDIDATES: [&str; 3] = ["flight", "flight plain", "extended plain"];
+pub const CANDIDATES: [&str; 4] = [
+    "flight",
+    "flight selected",
+    "flight plain",
+    "extended plain",
+];
 
 /// The linear baseline the models are compared with.
 pub const BASELINE: &str = "extended plain";
@@ -81,6 +86,11 @@ pub struct Verdict {
     pub scores: Vec<(String, f64)>,
     /// What the log could not show, and why.
     pub caveats: Vec<String>,
+    /// The flight default's optional terms that the term selection switched off (`"r: κ"`,
+    /// …; see [`select_terms`](crate::experiments::select_terms)): the candidate `flight
+    /// selected`, whether or not it is the model chosen.
+    #[serde(default)]
+    pub terms_off: Vec<String>,
 }
 
 /// Geometric mean of free run / hold over the six axes; `None` if any is not finite or the
@@ -180,7 +190,7 @@ pub fn verdict(
         }
     }
     caveats.extend(stick_caveats(training));
-    if model == "flight" {
+    if model == "flight" || model == "flight selected" {
         caveats.extend(rule_caveats(training));
     }
     if rate_hz < 50.0 {
@@ -198,9 +208,25 @@ pub fn verdict(
             n as f64 / rate_hz
         ));
     }
+    // The terms the flight default's selection switched off, whichever model is chosen: what
+    // the training data did not support.
+    let terms_off = find("flight selected")
+        .map(|v| TermMask::of_parameters(&v.parameters).describe())
+        .unwrap_or_default();
+    let why = if model == "flight selected" {
+        let off = if terms_off.is_empty() {
+            "none".to_string()
+        } else {
+            terms_off.join(", ")
+        };
+        format!("{why}; the flight default's terms that the training data did not support are switched off ({off})")
+    } else {
+        why
+    };
     Some(Verdict {
         model: model.to_string(),
         why,
+        terms_off,
         axes,
         scores,
         caveats,
@@ -285,7 +311,7 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     let _ = writeln!(s, "  why: {}", v.why);
     let _ = writeln!(
         s,
-        "  {:<28} {:>14} {:>9} {:>9} {:>8} {:>9}",
+        "  {:<28} {:>15} {:>9} {:>9} {:>8} {:>9}",
         format!("{window_s} s free run, mean |error|"),
         v.model,
         "hold",
@@ -296,7 +322,7 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     for a in &v.axes {
         let _ = writeln!(
             s,
-            "  {:<28} {:>14.3} {:>9.3} {:>9.3} {:>6.0} % {:>7.0} %",
+            "  {:<28} {:>15.3} {:>9.3} {:>9.3} {:>6.0} % {:>7.0} %",
             format!("{} ({})", a.axis, a.unit),
             a.free_run,
             a.hold,
@@ -315,6 +341,13 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
         "  free run / hold, geometric mean (lower is better): {}",
         others.join(", ")
     );
+    if !v.terms_off.is_empty() && v.model != "flight selected" {
+        let _ = writeln!(
+            s,
+            "  terms the training data did not support (flight selected): {}",
+            v.terms_off.join(", ")
+        );
+    }
     if !v.caveats.is_empty() {
         let _ = writeln!(s, "What the log could not show:");
         for c in &v.caveats {

@@ -144,15 +144,17 @@ fixed_payload! {
 }
 
 wire_enum! {
-    /// Which onboard identifier of the paper pair a request (params, export, import) is
-    /// about; refused while the flight pair answers `Sample`.
+    /// Which identifier of the active pair a request (params, export, import) is about:
+    /// export and import serve both pairs, params the paper pair only.
     #[non_exhaustive]
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
     pub enum Ident {
-        /// The Takagi-Sugeno identifier (`PaperFuzzyIdentifier<f32>`).
+        /// The Takagi-Sugeno identifier (`PaperFuzzyIdentifier<f32>`, or on the flight
+        /// pair `FlightIdentifier<f32>`).
         Fuzzy = 0,
-        /// The single-rule baseline (`PaperPlainIdentifier<f32>`).
+        /// The single-rule baseline (`PaperPlainIdentifier<f32>`, or on the flight pair
+        /// `ExtendedPlainIdentifier<f32>`).
         Plain = 1,
     }
 }

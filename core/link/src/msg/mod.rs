@@ -16,7 +16,8 @@
 //!
 //! * [`link`]: `Hello`, `Stats`, `Ack`, `Nack` (Ping/Pong carry raw bytes).
 //! * [`ident`]: samples in, estimates out, identifier reset and requests.
-//! * [`params`]: parameter dumps and the export/import snapshot stream.
+//! * [`params`]: parameter dumps.
+//! * [`snapshot`]: export and import, the core's snapshot in chunks.
 //! * [`errors`]: the lossless wire form of `rotorid`'s errors.
 //! * [`sweep`]: the onboard sweep generator.
 //! * [`test_hooks`]: cost, fault and memory hooks of the example firmware.
@@ -117,6 +118,7 @@ pub mod errors;
 pub mod ident;
 pub mod link;
 pub mod params;
+pub mod snapshot;
 pub mod sweep;
 pub mod test_hooks;
 
@@ -126,9 +128,10 @@ pub use ident::{
     ParamsRequest, ResetMsg, RlsForm, SampleMode, SampleMsg,
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
-pub use params::{
-    model_len, read_rls_state, snapshot_crc, snapshot_len, snapshot_read, state_len, stream_crc,
-    summary_words, DataChunk, ParamField, ParamsChunk, StateDecoder, StateParts,
+pub use params::{read_rls_state, summary_words, ParamField, ParamsChunk};
+pub use snapshot::{
+    export_chunks, snapshot_kind, stream_crc, DataChunk, ImportProgress, StageError, Staged,
+    KIND_EXTENDED_PLAIN, KIND_FLIGHT, KIND_PAPER_FUZZY, KIND_PAPER_PLAIN,
 };
 pub use sweep::{SweepSample, SweepStart};
 pub use test_hooks::{CostReport, CostRequest, FaultKind, MemoryReport, Workload};

@@ -7,14 +7,18 @@
 //! * [`Regime`], [`one_step_bias`]: where in the flight a model's trim is wrong.
 //! * [`ParametersError`], [`EvaluateError`]: what can fail on the way.
 
+mod catalogue;
 mod error;
 mod evaluation;
 mod regimes;
+mod selection;
 mod table4;
 mod variants;
 
+pub use catalogue::*;
 pub use error::*;
 pub use evaluation::*;
 pub use regimes::*;
+pub use selection::*;
 pub use table4::*;
 pub use variants::*;

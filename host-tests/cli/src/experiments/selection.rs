@@ -1,0 +1,383 @@
+//! Term selection: which optional consequent terms of the flight structure a helicopter's own
+//! training data support.
+//!
+//! The flight structure's terms ([`VelocityStructure::Flight`], [`RateStructure::Flight`])
+//! were chosen on the simulators written here; another helicopter needs other terms, and a
+//! term the data cannot determine adds variance to every prediction it enters. So, per model
+//! (velocity, q̂, r̂, p̂), a backward elimination decides from the data which optional terms to
+//! switch off:
+//!
+//! * The training data are cut into blocks of [`BLOCK_S`]; every third block is held out to
+//!   check, the others are learnt (so that each sweep, doublet or operating point of the flight
+//!   is in both parts: a split in time would hold out the last manoeuvre only).
+//! * A candidate is the flight default with some terms pinned at zero (each rule's prior
+//!   variance of the term set to zero, [`pin_to_zero`]: the onboard identifier keeps its fixed
+//!   sizes, and the exported state carries the choice, so a warm start flies it). It is learnt
+//!   on the learning blocks and scored by its free run ([`SELECTION_WINDOW_S`] windows) on the
+//!   check blocks, relative to holding the measured state: the geometric mean of
+//!   `free run / hold` over the model's own axes.
+//! * Model by model, the term whose removal gives the lowest score is switched off if the
+//!   score does not get worse, and the search goes on until every removal makes it worse
+//!   (ties go to the simpler model).
+//!
+//! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
+//! rate's control gain `γ` and damping `δ`.
+
+use rotorid::hover::{flight_sets, HoverSample, RateStructure, VelocityStructure};
+use rotorid::rls::RlsState;
+use rotorid::{FlightIdentifier, HoverConfig};
+use serde::{Deserialize, Serialize};
+
+use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
+use super::variants::{at, Identifier};
+
+/// Length of the blocks the training data are cut into (s).
+pub const BLOCK_S: f64 = 30.0;
+/// Free-run window of the selection's score (s), the tool's default verification window.
+pub const SELECTION_WINDOW_S: f64 = 2.0;
+/// Folds of the cross-validation: block `i` is held out in fold `i mod FOLDS`.
+pub const FOLDS: usize = 3;
+/// Fewest held-out samples per fold the selection needs, in seconds of data; with less it keeps every
+/// term.
+pub const MIN_CHECK_S: f64 = 20.0;
+
+/// The models in [`TermMask`] order, as named in `params-*.json`.
+pub const MODELS: [&str; 4] = ["velocity", "q", "r", "p"];
+
+/// Names of [`VelocityStructure::Flight`]'s terms, in θ order.
+pub const VELOCITY_TERMS: [&str; 8] = ["α1", "α2", "d_f", "d_r", "d_u", "σ0", "σ1", "α0"];
+/// Names of [`RateStructure::Flight`]'s terms in θ order (for r̂ the first is `𝕀|v|`).
+pub const RATE_TERMS: [&str; 7] = ["𝕀", "γ", "δ", "β", "c", "κ", "η"];
+
+/// The terms the selection may switch off, per model (indices into θ of one rule).
+const OPTIONAL: [&[usize]; 4] = [
+    &[2, 3, 5, 6, 7],
+    &[0, 3, 4, 5],
+    &[0, 3, 4, 5],
+    &[0, 3, 4, 5],
+];
+
+/// Axes (indices of `[v_x v_y v_z q r p]`) each model predicts.
+const AXES: [&[usize]; 4] = [&[0, 1, 2], &[3], &[4], &[5]];
+
+/// Which terms of each model are switched off: bit `i` of `off[m]` is term `i` of model
+/// `MODELS[m]`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TermMask {
+    /// Per model, the bits of the terms that are off.
+    pub off: [u8; 4],
+}
+
+impl TermMask {
+    /// Whether term `term` of model `model` is off.
+    pub fn is_off(&self, model: usize, term: usize) -> bool {
+        self.off
+            .get(model)
+            .is_some_and(|bits| bits >> term & 1 == 1)
+    }
+
+    /// This mask with term `term` of model `model` off as well.
+    fn without(mut self, model: usize, term: usize) -> Self {
+        if let Some(bits) = self.off.get_mut(model) {
+            *bits |= 1 << term;
+        }
+        self
+    }
+
+    /// The names of the terms that are off, per model (`"r: 𝕀|v|"`, …).
+    pub fn describe(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for (m, model) in MODELS.iter().enumerate() {
+            let names: &[&str] = if m == 0 { &VELOCITY_TERMS } else { &RATE_TERMS };
+            for (t, name) in names.iter().enumerate() {
+                if self.is_off(m, t) {
+                    let name = if m == 2 && t == 0 { "𝕀|v|" } else { name };
+                    out.push(format!("{model}: {name}"));
+                }
+            }
+        }
+        out
+    }
+
+    /// The mask a flight identifier's exported parameters carry: a term is off when every
+    /// rule's prior variance of it is exactly zero (learning never makes a positive variance
+    /// zero). Empty for parameters that are not the flight structure's.
+    pub fn of_parameters(parameters: &[super::ModelParameters]) -> Self {
+        let mut mask = Self::default();
+        for (m, p) in parameters.iter().enumerate().take(4) {
+            let d = if m == 0 {
+                VELOCITY_TERMS.len()
+            } else {
+                RATE_TERMS.len()
+            };
+            let per_rule = d * (d + 1) / 2;
+            if p.factor.is_empty() || p.factor.len() % per_rule != 0 {
+                continue;
+            }
+            for t in 0..d {
+                let diagonal = t * (t + 1) / 2 + t;
+                let off = p
+                    .factor
+                    .chunks(per_rule)
+                    .all(|rule| rule.get(diagonal).is_some_and(|&v| v == 0.0));
+                if off {
+                    mask = mask.without(m, t);
+                }
+            }
+        }
+        mask
+    }
+}
+
+/// What the selection found.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TermSelection {
+    /// The terms switched off.
+    pub mask: TermMask,
+    /// Free run / hold per state `[v_x v_y v_z q r p]` on the check blocks with every term.
+    pub full: [f64; 6],
+    /// The same with the selected terms.
+    pub selected: [f64; 6],
+    /// Candidates learnt and scored.
+    pub candidates: usize,
+    /// Samples learnt and held out to check.
+    pub samples: (usize, usize),
+}
+
+/// Sets each untrained rule's prior variance of parameter `term` to zero (the U-D factor's
+/// `D_term`; U is still the identity, so nothing else changes). A parameter with zero variance
+/// gets zero gain, so it stays exactly 0 and least squares fits the other terms as if it were
+/// absent; its covariance with them stays zero, so the gyro-noise compensation leaves it at 0
+/// too.
+pub(crate) fn pin_to_zero<const D: usize, const DP: usize>(
+    rules: &mut [RlsState<f32, D, DP>],
+    term: usize,
+) {
+    // Packed upper triangle, column by column: entry (i, k) at k(k + 1)/2 + i.
+    let diagonal = term * (term + 1) / 2 + term;
+    for rule in rules {
+        if let Some(d) = rule.factor.get_mut(diagonal) {
+            *d = 0.0;
+        }
+    }
+}
+
+/// A fresh flight default (the core's [`FlightIdentifier::flight`] at `period_us`) with the
+/// terms of `mask` pinned at zero.
+pub fn masked_flight(
+    mask: TermMask,
+    period_us: u32,
+) -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    let mut flight =
+        FlightIdentifier::<f32>::flight(at(HoverConfig::default(), period_us), flight_sets())?;
+    if mask == TermMask::default() {
+        return Ok(flight);
+    }
+    let mut snapshot = flight.export();
+    for t in 0..VelocityStructure::Flight.terms() {
+        if mask.is_off(0, t) {
+            pin_to_zero(&mut snapshot.velocity, t);
+        }
+    }
+    let rates = [&mut snapshot.pitch, &mut snapshot.yaw, &mut snapshot.roll];
+    for (m, rules) in rates.into_iter().enumerate() {
+        for t in 0..RateStructure::Flight.terms() {
+            if mask.is_off(m + 1, t) {
+                pin_to_zero(rules, t);
+            }
+        }
+    }
+    flight.import(&snapshot)?;
+    Ok(flight)
+}
+
+/// The training data cut into learning chains and held-out check blocks (see the module
+/// docs).
+struct Split {
+    learn: Vec<Vec<HoverSample<f32>>>,
+    check: Vec<Vec<HoverSample<f32>>>,
+}
+
+fn split(training: &[Vec<HoverSample<f32>>], block: usize, fold: usize) -> Split {
+    let mut learn: Vec<Vec<HoverSample<f32>>> = Vec::new();
+    let mut check = Vec::new();
+    let mut index = 0usize;
+    for log in training {
+        // Consecutive learning blocks of one log stay one chain.
+        let mut chain: Vec<HoverSample<f32>> = Vec::new();
+        for part in log.chunks(block.max(1)) {
+            if index % FOLDS == fold {
+                if !chain.is_empty() {
+                    learn.push(std::mem::take(&mut chain));
+                }
+                check.push(part.to_vec());
+            } else {
+                chain.extend_from_slice(part);
+            }
+            index += 1;
+        }
+        if !chain.is_empty() {
+            learn.push(chain);
+        }
+    }
+    Split { learn, check }
+}
+
+/// Free run / hold per state of `mask`'s flight identifier, learnt on each fold's learning
+/// chains and run free on its check blocks, summed over the folds.
+fn score(
+    mask: TermMask,
+    folds: &[Split],
+    period_us: u32,
+    window: usize,
+    gyro_noise: Option<[f32; 3]>,
+) -> Result<[f64; 6], rotorid::Error> {
+    let (mut error, mut hold) = ([0.0f64; 6], [0.0f64; 6]);
+    for split in folds {
+        let mut id = masked_flight(mask, period_us)?;
+        train(&mut id, &split.learn, &mut || {});
+        if let Some(sigma) = gyro_noise {
+            // As the tool's verification does: the free run flies the parameters compensated
+            // for the gyro noise; a refused compensation leaves the least-squares ones.
+            let _ = Identifier::compensate(&mut id, &sigma);
+        }
+        for block in &split.check {
+            let run = free_run(&id, block, window, FreeRunVelocity::Model);
+            let weight = block.len().saturating_sub(1) as f64;
+            for i in 0..6 {
+                error[i] += run.error[i] * weight;
+                hold[i] += run.hold[i] * weight;
+            }
+        }
+    }
+    Ok(core::array::from_fn(|i| {
+        if hold[i] > 0.0 {
+            error[i] / hold[i]
+        } else {
+            1.0
+        }
+    }))
+}
+
+/// Geometric mean of `ratios` over model `m`'s axes (non-finite: infinitely bad).
+fn model_score(ratios: &[f64; 6], m: usize) -> f64 {
+    let axes = AXES[m];
+    let log_sum: f64 = axes.iter().map(|&i| ratios[i].max(1e-12).ln()).sum();
+    let s = (log_sum / axes.len() as f64).exp();
+    if s.is_finite() {
+        s
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Selects the flight default's terms from `training` at `period_us` (see the module docs).
+/// With too little data to hold out ([`MIN_CHECK_S`]), every term stays.
+pub fn select_terms(
+    training: &[Vec<HoverSample<f32>>],
+    period_us: u32,
+) -> Result<TermSelection, rotorid::Error> {
+    let rate_hz = 1e6 / f64::from(period_us.max(1));
+    let block = (BLOCK_S * rate_hz).round().max(1.0) as usize;
+    let window = (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize;
+    let folds: Vec<Split> = (0..FOLDS).map(|f| split(training, block, f)).collect();
+    let check_samples: usize = folds.iter().flat_map(|f| &f.check).map(Vec::len).sum();
+    let learn_samples: usize = folds.iter().flat_map(|f| &f.learn).map(Vec::len).sum();
+    let mut selection = TermSelection {
+        samples: (learn_samples, check_samples),
+        ..TermSelection::default()
+    };
+    if (check_samples as f64) < FOLDS as f64 * MIN_CHECK_S * rate_hz {
+        return Ok(selection);
+    }
+    let gyro_noise = gyro_noise_of(training);
+    let mut mask = TermMask::default();
+    let mut current = score(mask, &folds, period_us, window, gyro_noise)?;
+    selection.full = current;
+    selection.candidates = 1;
+    for (m, optional) in OPTIONAL.iter().enumerate() {
+        loop {
+            let mut best: Option<(f64, TermMask, [f64; 6])> = None;
+            for &t in optional.iter().filter(|&&t| !mask.is_off(m, t)) {
+                let candidate = mask.without(m, t);
+                let ratios = score(candidate, &folds, period_us, window, gyro_noise)?;
+                selection.candidates += 1;
+                let s = model_score(&ratios, m);
+                if best.as_ref().is_none_or(|(b, _, _)| s < *b) {
+                    best = Some((s, candidate, ratios));
+                }
+            }
+            match best {
+                Some((s, candidate, ratios)) if s <= model_score(&current, m) => {
+                    mask = candidate;
+                    current = ratios;
+                }
+                _ => break,
+            }
+        }
+    }
+    selection.mask = mask;
+    selection.selected = current;
+    Ok(selection)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn masks_name_their_terms_and_read_back_from_parameters() {
+        let mask = TermMask::default()
+            .without(0, 7)
+            .without(2, 0)
+            .without(3, 6);
+        assert_eq!(mask.describe(), ["velocity: α0", "r: 𝕀|v|", "p: η"]);
+        let id = masked_flight(mask, 20_000).unwrap();
+        let params = Identifier::parameters(&id);
+        assert_eq!(TermMask::of_parameters(&params), mask);
+        let full = masked_flight(TermMask::default(), 20_000).unwrap();
+        assert_eq!(
+            TermMask::of_parameters(&Identifier::parameters(&full)),
+            TermMask::default()
+        );
+    }
+
+    #[test]
+    fn every_third_block_is_held_out_and_nothing_is_lost() {
+        let log = rotorid_sim::flights::identification_flight_for(1, 40.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let s = split(std::slice::from_ref(&samples), 500, 2);
+        let learnt: usize = s.learn.iter().map(Vec::len).sum();
+        let held: usize = s.check.iter().map(Vec::len).sum();
+        assert_eq!(learnt + held, samples.len());
+        assert!(s.check.iter().all(|b| b.len() <= 500));
+        // 2 000 samples: blocks 0 1 | 2 | 3: learn 0-999, check 1000-1499, learn 1500-.
+        assert_eq!(s.check.len(), 1);
+        assert_eq!(s.check[0][0].time_us, samples[1000].time_us);
+    }
+
+    /// The velocity model is selected first and nothing selected later enters its free run
+    /// (the rates' models do not feed it), so its cross-validated score can only improve.
+    #[test]
+    fn the_selection_never_worsens_the_velocity_models_cross_validated_score() {
+        let log = rotorid_sim::flights::identification_flight_for(3, 75.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let selection = select_terms(&[samples], 20_000).unwrap();
+        assert!(selection.candidates > 1, "{selection:?}");
+        assert!(
+            model_score(&selection.selected, 0) <= model_score(&selection.full, 0),
+            "{selection:?}"
+        );
+        // Every held-out sample was checked once: the folds cover the data.
+        assert_eq!(selection.samples.1, 75 * 50);
+    }
+
+    #[test]
+    fn too_little_data_keeps_every_term() {
+        let log = rotorid_sim::flights::identification_flight_for(1, 30.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let selection = select_terms(&[samples], 20_000).unwrap();
+        assert_eq!(selection.mask, TermMask::default());
+        assert_eq!(selection.candidates, 0);
+    }
+}
