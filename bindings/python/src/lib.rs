@@ -15,6 +15,7 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
+use rotorid_cli::experiments::FreeRunVelocity;
 use rotorid_cli::identify::{self as ident, IdentifyArgs};
 use rotorid_cli::import::ImportOptions;
 use rotorid_cli::simulate::{self as sim, FlightKind, SimulateArgs};
@@ -161,13 +162,61 @@ fn hover_block<'py>(
     Ok((PyBytes::new(py, &times), PyBytes::new(py, &floats)))
 }
 
-/// Identifies as `rotorid identify` with its defaults (the GIL released meanwhile). Returns
+/// Comma-separated finite numbers in `range`, as the command parses them (f32 from the text).
+fn numbers(text: &str, what: &str, ok: impl Fn(f32) -> bool) -> PyResult<Vec<f32>> {
+    text.split(',')
+        .map(|v| match v.trim().parse::<f32>() {
+            Ok(x) if ok(x) => Ok(x),
+            _ => Err(errors::input(format!(
+                "{what}: {:?} is not a valid value",
+                v.chars().take(40).collect::<String>()
+            ))),
+        })
+        .collect()
+}
+
+/// `--gyro-noise`: auto, none, σ or `Q,R,P` (deg/s).
+fn parse_gyro_noise(text: &str) -> PyResult<ident::GyroNoise> {
+    match text {
+        "auto" => return Ok(ident::GyroNoise::Auto),
+        "none" => return Ok(ident::GyroNoise::None),
+        _ => {}
+    }
+    let v = numbers(text, "gyro_noise (deg/s, ≥ 0)", |x| {
+        x.is_finite() && x >= 0.0
+    })?;
+    match v[..] {
+        [x] => Ok(ident::GyroNoise::Given([x; 3])),
+        [q, r, p] => Ok(ident::GyroNoise::Given([q, r, p])),
+        _ => Err(errors::input(
+            "gyro_noise: \"auto\", \"none\", one σ or three (q, r, p) expected",
+        )),
+    }
+}
+
+/// `--observer-gain`: auto, K or six values (0 to 1).
+fn parse_observer_gain(text: &str) -> PyResult<ident::ObserverGain> {
+    if text == "auto" {
+        return Ok(ident::ObserverGain::Auto);
+    }
+    let v = numbers(text, "observer_gain (0 to 1)", |k| (0.0..=1.0).contains(&k))?;
+    match v[..] {
+        [k] => Ok(ident::ObserverGain::Given([k; 6])),
+        [a, b, c, q, r, p] => Ok(ident::ObserverGain::Given([a, b, c, q, r, p])),
+        _ => Err(errors::input(
+            "observer_gain: \"auto\", one gain or six (v_x, v_y, v_z, q, r, p) expected",
+        )),
+    }
+}
+
+/// Identifies as `rotorid identify` (the GIL released meanwhile); `gyro_noise` and
+/// `observer_gain` in the command's syntax (`auto`, `none`, `0.3`, `0.3,0.4,0.5`). Returns
 /// `(metrics_json, parameters_json, text, notes)`: metrics.json's text (byte for byte the
 /// command's for the same arguments), every variant's θ (as params-*.json), what the command prints on stdout (the verdict, the derivatives), and
 /// its notes and warnings. With `out`, writes metrics.json, params-*.json and (`plots`) the
 /// figures there.
 #[pyfunction]
-#[pyo3(signature = (train, verify=None, holdout=0.3, rate=None, from_s=None, to_s=None, out=None, window=2.0, plots=true))]
+#[pyo3(signature = (train, verify=None, holdout=0.3, rate=None, from_s=None, to_s=None, out=None, window=2.0, plots=true, warm_start=None, gyro_noise="auto", free_run_velocity="model", observer_gain="auto"))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -180,6 +229,10 @@ fn identify(
     out: Option<PathBuf>,
     window: f64,
     plots: bool,
+    warm_start: Option<PathBuf>,
+    gyro_noise: &str,
+    free_run_velocity: &str,
+    observer_gain: &str,
 ) -> PyResult<(String, String, String, Vec<String>)> {
     if !(holdout.is_finite() && holdout > 0.0 && holdout < 1.0) {
         return Err(errors::input(format!(
@@ -197,6 +250,19 @@ fn identify(
         out,
         window,
         no_plots: !plots,
+        warm_start,
+        gyro_noise: parse_gyro_noise(gyro_noise)?,
+        free_run_velocity: match free_run_velocity {
+            "model" => FreeRunVelocity::Model,
+            "measured" => FreeRunVelocity::Measured,
+            other => {
+                return Err(errors::input(format!(
+                    "free_run_velocity {:?}: expected \"model\" or \"measured\"",
+                    other.chars().take(40).collect::<String>()
+                )))
+            }
+        },
+        observer_gain: parse_observer_gain(observer_gain)?,
         ..IdentifyArgs::new(train)
     };
     let result = py.detach(|| {

@@ -40,6 +40,25 @@ def test_to_json_is_the_cli_metrics_byte_for_byte(rotorid_bin, logs, with_verify
             assert a.read() == b.read(), name
 
 
+def test_the_commands_options_give_its_bytes(rotorid_bin, logs, monkeypatch):
+    monkeypatch.chdir(logs["dir"])
+    first = rotorid.identify("train.csv", out="warm", plots=False)
+    assert os.path.exists("warm/params-paper-fuzzy.json")
+    flags = ["--free-run-velocity", "measured", "--gyro-noise", "0.25,0.5,0.75",
+             "--observer-gain", "0.5", "--warm-start", "warm/params-paper-fuzzy.json",
+             "--window", "1.5", "--train", "train.csv", "--verify", "verify.csv"]
+    expected = cli_metrics(rotorid_bin, logs["dir"], flags)
+    result = rotorid.identify("train.csv", verify="verify.csv", free_run_velocity="measured",
+                              gyro_noise=(0.25, 0.5, 0.75), observer_gain=0.5,
+                              warm_start="warm/params-paper-fuzzy.json", window=1.5)
+    assert result.to_json() == expected
+    assert result.to_json() != first.to_json()
+    for bad in [dict(gyro_noise="loud"), dict(gyro_noise=(1, 2)), dict(observer_gain=1.5),
+                dict(free_run_velocity="fast")]:
+        with pytest.raises(rotorid.InputError):
+            rotorid.identify("train.csv", **bad)
+
+
 def test_result_tables(logs):
     r = rotorid.identify(logs["train"], verify=logs["verify"], plots=False)
     m = json.loads(r.to_json())

@@ -151,6 +151,8 @@ def simulate(
     )
     if out is not None:
         return os.fspath(out)
+    if block is None:  # cannot happen: without `out` the native call returns the samples
+        raise SimulateError("simulate returned no samples")
     return _frame(block, LOG_COLUMNS)
 
 
@@ -378,6 +380,10 @@ def identify(
     to_s: Optional[float] = None,
     window: float = 2.0,
     plots: bool = True,
+    warm_start: Optional[PathLike] = None,
+    gyro_noise: Union[str, float, Sequence[float]] = "auto",
+    free_run_velocity: str = "model",
+    observer_gain: Union[str, float, Sequence[float]] = "auto",
 ) -> IdentifyResult:
     """Identifies hover models from logs, as ``rotorid identify --train TRAIN... [--verify
     VERIFY] [--holdout H] [--out OUT]`` with its defaults: every variant trained, scored
@@ -387,6 +393,11 @@ def identify(
 
     With ``out`` writes metrics.json, params-*.json and (``plots``) the figures there.
     ``result.to_json()`` is metrics.json byte for byte (paths as given here).
+
+    The command's other options: ``warm_start`` (a params-*.json), ``gyro_noise`` ("auto",
+    "none", a σ or ``(q, r, p)`` σ in deg/s), ``free_run_velocity`` ("model" or
+    "measured"), ``observer_gain`` ("auto", a gain or six, 0–1), ``rate`` (Hz),
+    ``from_s``/``to_s`` (s).
 
     Raises ``LogError`` (a log), ``IdentifyError`` (too little data, a file not written),
     ``InputError`` (an argument).
@@ -405,8 +416,21 @@ def identify(
             None if out is None else os.fspath(out),
             window,
             plots,
+            None if warm_start is None else os.fspath(warm_start),
+            _option_text(gyro_noise),
+            free_run_velocity,
+            _option_text(observer_gain),
         )
     )
+
+
+def _option_text(value: Union[str, float, Sequence[float]]) -> str:
+    """An option in the command's syntax: a word as it is, numbers comma-separated."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (int, float)):
+        return repr(float(value))
+    return ",".join(repr(float(v)) for v in value)
 
 
 def identify_many(
@@ -436,7 +460,7 @@ def identify_many(
     bar = None
     if progress:
         try:
-            from tqdm.auto import tqdm  # type: ignore[import-not-found]
+            from tqdm.auto import tqdm  # type: ignore[import-not-found,import-untyped,unused-ignore]
 
             bar = tqdm(total=len(paths), unit="log")
         except ImportError:

@@ -70,6 +70,10 @@ def identify(
     out: Optional[str] = None,
     window: float = 2.0,
     plots: bool = True,
+    warm_start: Optional[str] = None,
+    gyro_noise: str = "auto",
+    free_run_velocity: str = "model",
+    observer_gain: str = "auto",
 ) -> Tuple[str, str, str, List[str]]: ...
 def simulate(
     kind: str,
