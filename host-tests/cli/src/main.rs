@@ -17,16 +17,17 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use rotorid_cli::error_chain::Chain;
-use rotorid_cli::experiments::{self, EvaluateError, ModelParameters, TABLE4_VARIANTS};
+use rotorid_cli::experiments;
 use rotorid_cli::flight_report::Condition;
+use rotorid_cli::identify::{self, GyroNoise, IdentifyArgs, ObserverGain};
 use rotorid_cli::import::{self, ImportError};
 use rotorid_cli::log::{self, LogError};
-use rotorid_cli::report::{self, FigureError, Metrics, ReportError, Table4};
+use rotorid_cli::report::{Metrics, ReportError};
 use rotorid_cli::results::SecondPlant;
 use rotorid_cli::robustness::PlantRuns;
-use rotorid_sim::envelope::{self, EnvelopeKind};
+use rotorid_cli::simulate;
 use rotorid_sim::flights;
-use rotorid_sim::plant::{Airframe, FlightConfig, NoiseStd, PlantError};
+use rotorid_sim::plant::Airframe;
 
 #[derive(Parser)]
 #[command(
@@ -103,6 +104,11 @@ enum Command {
         /// variations cannot hover; the simulation then says so.
         #[arg(long, value_name = "SEED")]
         plant_variation: Option<u64>,
+        /// Cyclic control power as a fraction of the plant's (0.1 to 2): both
+        /// cyclic-to-flapping gains (A_lon, B_lat) times this, the pilot's stick scaling left
+        /// as for the undamaged plant (a worn or damaged rotor; docs/python.md's fleet example).
+        #[arg(long, default_value_t = 1.0)]
+        cyclic_power: f64,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -175,7 +181,7 @@ enum Command {
         /// logs (`GainSearch`, 0.1 to 1 in steps of 0.1), one value is every state's, six
         /// (`VX,VY,VZ,Q,R,P`) are each state's.
         #[arg(long, default_value = "auto", value_parser = parse_observer_gain)]
-        observer_gain: ObserverGainArg,
+        observer_gain: ObserverGain,
     },
     /// Convert a PX4 ULog (.ulg), ArduPilot DataFlash (.bin) or PX4 sdlog2 (.px4log) log to
     /// the CSV format (docs/log-format.md): ground time and implausible stretches cut,
@@ -269,44 +275,14 @@ struct ReportArgs {
 /// What went wrong in a command; `main` prints it with its causes ([`Chain`]).
 #[derive(Debug, thiserror::Error)]
 enum CliError {
-    #[error("--duration must be in (0, 36000] s, got {0}")]
-    Duration(f64),
-    #[error("--noise-scale must be in [0, 100], got {0}")]
-    NoiseScale(f64),
-    #[error(
-        "--duration {given} s: the identification flight (the four Table 2 sweeps) lasts {full} s; \
-         give at most that, or fly a verification flight for longer"
-    )]
-    LongerThanSweeps { given: f64, full: f64 },
-    #[error("--duration does not apply to envelope flights (their length is their schedule's)")]
-    EnvelopeDuration,
-    #[error("--window must be in (0, 3600] s, got {0}")]
-    Window(f64),
-    #[error("plant {airframe}")]
-    Airframe {
-        airframe: &'static str,
-        source: PlantError,
-    },
-    #[error("plant {airframe}, variation {seed}: this variation cannot hover (try another seed)")]
-    Variation {
-        airframe: &'static str,
-        seed: u64,
-        source: PlantError,
-    },
-    #[error("simulation")]
-    Simulation(#[source] PlantError),
+    #[error(transparent)]
+    Simulate(#[from] simulate::SimulateError),
     #[error(transparent)]
     Log(#[from] LogError),
     #[error(transparent)]
     Import(#[from] ImportError),
-    #[error("{}: no samples", .0.display())]
-    NoSamples(PathBuf),
-    #[error("no log to identify from: give LOG... (or --train LOG...)")]
-    NoLogs,
     #[error(transparent)]
-    Split(#[from] rotorid_cli::holdout::SplitError),
-    #[error("{}: needs at least 2 samples", .0.display())]
-    TooFewSamples(PathBuf),
+    Identify(#[from] identify::IdentifyError),
     #[error("{}: cannot read", path.display())]
     Read {
         path: PathBuf,
@@ -317,29 +293,13 @@ enum CliError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{}: cannot create the directory", path.display())]
-    CreateDir {
-        path: PathBuf,
-        source: std::io::Error,
-    },
     #[error("{}: not the expected JSON", path.display())]
     ParseJson {
         path: PathBuf,
         source: serde_json::Error,
     },
-    #[error("{}: cannot encode as JSON", path.display())]
-    ToJson {
-        path: PathBuf,
-        source: serde_json::Error,
-    },
     #[error("progress bar")]
     ProgressBar(#[from] indicatif::style::TemplateError),
-    #[error(transparent)]
-    Evaluate(#[from] EvaluateError),
-    #[error("comparing f32 with f64")]
-    Precision(#[source] rotorid::Error),
-    #[error(transparent)]
-    Figure(#[from] FigureError),
     #[error(transparent)]
     Report(#[from] ReportError),
 }
@@ -417,13 +377,14 @@ fn main() -> ExitCode {
             noise_scale,
             plant,
             plant_variation,
+            cyclic_power,
             output,
         } => run_simulate(
             kind,
             seed,
             duration,
             Sensors { clean, noise_scale },
-            (plant.into(), plant_variation),
+            (plant.into(), plant_variation, cyclic_power),
             &output,
         ),
         Command::Identify {
@@ -453,7 +414,7 @@ fn main() -> ExitCode {
                 to_s: to,
             },
             full,
-            out,
+            out: Some(out),
             window,
             plot_span,
             no_plots,
@@ -505,71 +466,24 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     sensors: Sensors,
-    (airframe, variation): (Airframe, Option<u64>),
+    (airframe, variation, cyclic_power): (Airframe, Option<u64>, f64),
     output: &Path,
 ) -> Result<(), CliError> {
-    let scale = sensors.noise_scale;
-    if !(scale.is_finite() && (0.0..=100.0).contains(&scale)) {
-        return Err(CliError::NoiseScale(scale));
-    }
-    if let Some(d) = duration {
-        if !(d.is_finite() && d > 0.0 && d <= 36_000.0) {
-            return Err(CliError::Duration(d));
-        }
-    }
-    if let (Kind::Identification, Some(d)) = (kind, duration) {
-        let full = flights::identification_duration_s();
-        if d > full {
-            return Err(CliError::LongerThanSweeps { given: d, full });
-        }
-    }
-    let sensors = if sensors.clean {
-        FlightConfig::default()
-    } else {
-        let realistic = FlightConfig::realistic(seed, 0.0);
-        FlightConfig {
-            noise: realistic.noise.map(|n| NoiseStd {
-                velocity: n.velocity * scale,
-                rate: n.rate * scale,
-                angle: n.angle * scale,
-            }),
-            ..realistic
-        }
-    };
-    let config = FlightConfig { seed, ..sensors }
-        .for_airframe(airframe)
-        .map_err(|source| CliError::Airframe {
-            airframe: airframe.name(),
-            source,
-        })?;
-    let config = match variation {
-        Some(seed) => config.varied(seed).map_err(|source| CliError::Variation {
-            airframe: airframe.name(),
-            seed,
-            source,
-        })?,
-        None => config,
-    };
-    let samples = match kind {
-        Kind::Identification => {
-            flights::identification_flight_with(&config, duration.unwrap_or(f64::INFINITY))
-        }
-        Kind::Verification => flights::verification_flight_with(&FlightConfig {
-            duration: duration.unwrap_or(120.0),
-            ..config
-        }),
-        Kind::Envelope | Kind::EnvelopeVerification => {
-            let kind = match kind {
-                Kind::Envelope => EnvelopeKind::Identification,
-                _ => EnvelopeKind::Verification,
-            };
-            if duration.is_some() {
-                return Err(CliError::EnvelopeDuration);
-            }
-            envelope::envelope_flight_with(&config, kind)
-        }
-    }
-    .map_err(CliError::Simulation)?;
+    let samples = simulate::simulate(&simulate::SimulateArgs {
+        kind: match kind {
+            Kind::Identification => simulate::FlightKind::Identification,
+            Kind::Verification => simulate::FlightKind::Verification,
+            Kind::Envelope => simulate::FlightKind::Envelope,
+            Kind::EnvelopeVerification => simulate::FlightKind::EnvelopeVerification,
+        },
+        seed,
+        duration,
+        clean: sensors.clean,
+        noise_scale: sensors.noise_scale,
+        airframe,
+        variation,
+        cyclic_power,
+    })?;
     log::write_log(output, &samples)?;
     eprintln!(
         "wrote {} samples ({:.1} s) to {}",
@@ -587,25 +501,8 @@ fn read(path: &Path, options: &import::ImportOptions) -> Result<import::Imported
 
 /// Prints an import's warnings, and its notes (`full`) or a one-line summary of them.
 fn report_import(path: &Path, imported: &import::Imported, used: &[&import::Segment], full: bool) {
-    let file = path.display().to_string();
-    if full || imported.notes.len() <= 2 {
-        for n in &imported.notes {
-            eprintln!("note: {n}");
-        }
-    } else {
-        eprintln!(
-            "note: {file}: {} notes ({} cuts; --full lists them)",
-            imported.notes.len(),
-            imported.cuts.len()
-        );
-    }
-    for w in &imported.warnings {
-        eprintln!("warning: {w}");
-    }
-    for seg in used {
-        for w in log::warnings(&file, seg) {
-            eprintln!("warning: {w}");
-        }
+    for line in identify::import_notes(path, imported, used, full) {
+        eprintln!("{line}");
     }
 }
 
@@ -676,14 +573,6 @@ fn parse_rate(text: &str) -> Result<RateArg, String> {
     }
 }
 
-fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value).map_err(|source| CliError::ToJson {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    write_text(path, text + "\n")
-}
-
 /// `--free-run-velocity` ([`experiments::FreeRunVelocity`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum FreeRunVelocityArg {
@@ -700,17 +589,6 @@ impl From<FreeRunVelocityArg> for experiments::FreeRunVelocity {
             FreeRunVelocityArg::Measured => Self::Measured,
         }
     }
-}
-
-/// `--gyro-noise`: what the free run's parameters are compensated for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum GyroNoise {
-    /// Estimated from the training logs.
-    Auto,
-    /// Not compensated.
-    None,
-    /// σ of `[q r p]` (deg/s).
-    Given([f32; 3]),
 }
 
 fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
@@ -737,18 +615,9 @@ fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
     }
 }
 
-/// `--observer-gain`: the one-step observer's gain.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum ObserverGainArg {
-    /// Found on the training logs, per variant.
-    Auto,
-    /// K of `[v_x v_y v_z q r p]`.
-    Given([f32; 6]),
-}
-
-fn parse_observer_gain(text: &str) -> Result<ObserverGainArg, String> {
+fn parse_observer_gain(text: &str) -> Result<ObserverGain, String> {
     if text == "auto" {
-        return Ok(ObserverGainArg::Auto);
+        return Ok(ObserverGain::Auto);
     }
     let values = text
         .split(',')
@@ -760,325 +629,66 @@ fn parse_observer_gain(text: &str) -> Result<ObserverGainArg, String> {
         })
         .collect::<Result<Vec<f32>, String>>()?;
     match values[..] {
-        [k] => Ok(ObserverGainArg::Given([k; 6])),
-        [a, b, c, q, r, p] => Ok(ObserverGainArg::Given([a, b, c, q, r, p])),
+        [k] => Ok(ObserverGain::Given([k; 6])),
+        [a, b, c, q, r, p] => Ok(ObserverGain::Given([a, b, c, q, r, p])),
         _ => Err(format!(
             "`{text}`: one observer gain or six (VX,VY,VZ,Q,R,P) expected, or auto"
         )),
     }
 }
 
-/// The arguments of `rotorid identify`, resolved.
-struct IdentifyArgs {
-    train: Vec<PathBuf>,
-    verify: Option<PathBuf>,
-    holdout: f64,
-    options: import::ImportOptions,
-    full: bool,
-    out: PathBuf,
-    window: f64,
-    plot_span: Option<f64>,
-    no_plots: bool,
-    warm_start: Option<PathBuf>,
-    gyro_noise: GyroNoise,
-    free_run_velocity: experiments::FreeRunVelocity,
-    observer_gain: ObserverGainArg,
-}
-
-/// Reads every log at one rate: each at the rate its channels support, then those faster
-/// than the slowest again at that (a model is learnt at one sample period).
-fn read_all(
-    paths: &[&Path],
-    options: &import::ImportOptions,
-) -> Result<Vec<import::Imported>, CliError> {
-    let mut imported = paths
-        .iter()
-        .map(|p| read(p, options))
-        .collect::<Result<Vec<_>, _>>()?;
-    let rate = imported
-        .iter()
-        .map(|i| i.rate_hz)
-        .min_by(f64::total_cmp)
-        .unwrap_or(import::resample::RATE_HZ);
-    for (p, i) in paths.iter().zip(imported.iter_mut()) {
-        if i.rate_hz != rate {
-            *i = read(
-                p,
-                &import::ImportOptions {
-                    rate_hz: Some(rate),
-                    ..*options
-                },
-            )?;
-        }
-    }
-    Ok(imported)
-}
-
-/// The same file given twice (by path or by content).
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) if x == y => return true,
-        _ => {}
-    }
-    match (std::fs::metadata(a), std::fs::metadata(b)) {
-        (Ok(x), Ok(y)) if x.len() == y.len() => {
-            matches!((std::fs::read(a), std::fs::read(b)), (Ok(x), Ok(y)) if x == y)
-        }
-        _ => false,
-    }
-}
-
+/// `rotorid identify`: the library's [`identify::identify`], printing as it goes.
 fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
-    let window = args.window;
-    if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
-        return Err(CliError::Window(window));
-    }
-    if args.train.is_empty() {
-        return Err(CliError::NoLogs);
-    }
-    let mut paths: Vec<&Path> = args.train.iter().map(PathBuf::as_path).collect();
-    if let Some(v) = &args.verify {
-        paths.push(v);
-    }
-    let imported = read_all(&paths, &args.options)?;
-    let rate_hz = imported
-        .first()
-        .map_or(import::resample::RATE_HZ, |i| i.rate_hz);
-    let mut labelled = Vec::new();
-    for (path, im) in args.train.iter().zip(&imported) {
-        let used = import::segments_for_identify(im, true);
-        report_import(path, im, &used, args.full);
-        for (k, seg) in im.segments.iter().enumerate() {
-            if used.iter().any(|u| std::ptr::eq(*u, seg)) {
-                labelled.push(rotorid_cli::holdout::Labelled {
-                    file: path.display().to_string(),
-                    segment: k + 1,
-                    samples: seg.clone(),
-                });
-            }
-        }
-    }
-    let split = match (&args.verify, imported.last()) {
-        (Some(v), Some(im)) => {
-            let longest = im
-                .longest()
-                .ok_or_else(|| CliError::NoSamples(v.to_path_buf()))?;
-            report_import(v, im, &[longest], args.full);
-            if args.train.iter().any(|t| same_file(t, v)) {
-                eprintln!(
-                    "warning: {} is also a training log: the scores measure how well the models fit it, not how they predict; leave out --verify to hold part of the data out",
-                    v.display()
-                );
-            }
-            rotorid_cli::holdout::Split {
-                training: labelled.into_iter().map(|l| l.samples).collect(),
-                verification: longest.clone(),
-                how: format!("verified on {} (its longest segment)", v.display()),
-            }
-        }
-        _ => rotorid_cli::holdout::split(
-            labelled,
-            args.holdout,
-            import::min_useful_samples(rate_hz),
-        )?,
-    };
-    let verify_name = args
-        .verify
-        .as_ref()
-        .map_or_else(|| "held-out data".to_string(), |v| v.display().to_string());
-    if split.verification.len() < 2 {
-        return Err(CliError::TooFewSamples(PathBuf::from(&verify_name)));
-    }
-    let training: Vec<Vec<rotorid::hover::HoverSample<f32>>> = split
-        .training
-        .iter()
-        .map(|s| flights::to_hover_samples(s))
-        .collect();
-    let verification = flights::to_hover_samples(&split.verification);
-    let warm: Option<Vec<ModelParameters>> =
-        args.warm_start.as_deref().map(read_json).transpose()?;
-    let out = args.out.as_path();
-    std::fs::create_dir_all(out).map_err(|source| CliError::CreateDir {
-        path: out.to_path_buf(),
-        source,
-    })?;
-
-    let gyro_noise = match args.gyro_noise {
-        // RateNoise's third differences are noise only when the rates are sampled well above
-        // the body dynamics (50 Hz for a helicopter); at a log's lower rate they are mostly
-        // motion, and compensating for that would spoil the free run.
-        GyroNoise::Auto if rate_hz >= import::resample::RATE_HZ => {
-            experiments::gyro_noise_of(&training)
-        }
-        GyroNoise::Auto => {
-            eprintln!(
-                "note: at {rate_hz} Hz the rates' differences are mostly motion, not gyro noise: the free runs are not compensated for it (give --gyro-noise with the gyro's data-sheet σ)"
-            );
-            None
-        }
-        GyroNoise::None => None,
-        GyroNoise::Given(sigma) => Some(sigma),
-    };
-    let n_train: usize = training.iter().map(Vec::len).sum();
-    eprintln!(
-        "identifying at {rate_hz} Hz: {:.1} s of training data in {} segment(s), {:.1} s to verify; {}",
-        n_train as f64 / rate_hz,
-        training.len(),
-        verification.len() as f64 / rate_hz,
-        split.how
-    );
-    if args.full {
-        if let Some([q, r, p]) = gyro_noise {
-            eprintln!(
-                "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
-            );
-        }
-    }
-    if args.free_run_velocity == experiments::FreeRunVelocity::Measured {
-        eprintln!("free runs on the measured velocity: the rates run free, the velocities do not");
-    }
-    let variants = experiments::variants();
-    let total = (n_train + verification.len()) * variants.len();
-    let bar = ProgressBar::new(total as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})")?
-            .progress_chars("=> "),
-    );
-    let mut results = Vec::new();
-    for (i, v) in variants.iter().enumerate() {
-        bar.set_message(v.name);
-        let warm = if i == 0 { warm.as_deref() } else { None };
-        let mut tick = || bar.inc(1);
-        let settings = experiments::EvaluationSettings {
-            window_s: window,
-            gyro_noise,
-            velocity: args.free_run_velocity,
-            observer_gain: match args.observer_gain {
-                ObserverGainArg::Auto => None,
-                ObserverGainArg::Given(gain) => Some(gain),
-            },
-            rate_hz,
-        };
-        results.push(experiments::evaluate(
-            v,
-            &training,
-            &verification,
-            settings,
-            warm,
-            &mut tick,
-        )?);
-    }
-    bar.finish_and_clear();
-
-    let table4 = match (
-        results.get(TABLE4_VARIANTS.0),
-        results.get(TABLE4_VARIANTS.1),
-    ) {
-        (Some(f), Some(p)) => Some(Table4::new(f.one_step, p.one_step)),
-        _ => None,
-    };
-    if args.full {
-        println!(
-            "Table 4 analogue: mean absolute one-step error over {verify_name} (θ frozen after training on {n_train} samples)\n"
-        );
-        if let Some(t) = &table4 {
-            print!("{}", experiments::format_table4(&t.fuzzy, &t.plain));
-        }
-        println!();
-        print!("{}", report::format_variants(&results, window));
-    }
-
-    for r in &results {
-        let name = r.name.replace(' ', "-");
-        write_json(&out.join(format!("params-{name}.json")), &r.parameters)?;
-        if let Some(p) = &r.compensated_parameters {
-            write_json(&out.join(format!("params-{name}-compensated.json")), p)?;
-        }
-    }
-    // f32 against f64 for the extended structures (issue 5): same logs, same settings.
-    let precision =
-        rotorid_cli::precision::extended_f32_vs_f64(&training).map_err(CliError::Precision)?;
-    if args.full {
-        for p in &precision {
-            println!(
-                "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}",
-                p.variant, p.compared, p.parameters, p.max_relative, p.median_relative
-            );
-        }
-    }
-    let verdict = rotorid_cli::verdict::verdict(&results, &split.training, rate_hz);
-    match &verdict {
-        Some(v) => print!("{}", rotorid_cli::verdict::format_verdict(v, window)),
-        None => println!(
-            "No verdict: no candidate model could be scored against hold (each left the sample limits in a free-run window, or a state never moved); see metrics.json, or --full"
-        ),
-    }
-    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
-        split.training.iter().map(Vec::as_slice).collect();
-    let derivatives = rotorid_cli::derivatives::derivatives(&segments, rate_hz);
-    let text = rotorid_cli::derivatives::format_derivatives(&derivatives);
-    println!("{}", text.trim_end());
-    let metrics = Metrics {
-        precision,
-        training_files: args.train.iter().map(|p| p.display().to_string()).collect(),
-        training_samples: n_train,
-        verification_file: verify_name,
-        verification_samples: verification.len(),
-        window_s: window,
-        gyro_noise_deg_s: gyro_noise,
-        free_run_velocity: args.free_run_velocity,
-        states: report::state_labels(),
-        variants: results,
-        table4,
-        rate_hz,
-        split: split.how.clone(),
-        logs: paths
-            .iter()
-            .zip(&imported)
-            .map(|(p, im)| report::LogSummary::of(&p.display().to_string(), im))
-            .collect(),
-        verdict,
-        derivatives: Some(derivatives),
-    };
-    write_json(&out.join("metrics.json"), &metrics)?;
-    let mut figures = 0;
-    if !args.no_plots {
-        // The model to fly and the linear baseline; every variant with --full.
-        let mut shown: Vec<&str> = metrics
-            .verdict
-            .as_ref()
-            .map(|v| v.model.as_str())
-            .into_iter()
-            .chain([rotorid_cli::verdict::BASELINE])
-            .collect();
-        shown.dedup();
-        if args.full {
-            shown = metrics
-                .variants
-                .iter()
-                .map(|v| v.name.as_str())
-                .take(5)
-                .collect();
-        }
-        figures = report::write_figures(
-            out,
-            &verification,
-            &metrics.variants,
-            &shown,
-            args.plot_span,
-        )?
-        .len();
-    }
-    println!(
-        "Files: {}: metrics.json (every variant, the import's cuts and rates), params-*.json{}",
-        out.display(),
-        if figures > 0 {
-            format!(", {figures} figures")
-        } else {
-            String::new()
-        }
-    );
+    let mut terminal = Terminal::new()?;
+    identify::identify(args, &mut terminal)?;
     Ok(())
+}
+
+/// Prints an identification's notes to stderr and its text to stdout, with a progress bar.
+struct Terminal {
+    style: ProgressStyle,
+    bar: Option<ProgressBar>,
+}
+
+impl Terminal {
+    fn new() -> Result<Self, CliError> {
+        Ok(Self {
+            style: ProgressStyle::with_template(
+                "{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})",
+            )?
+            .progress_chars("=> "),
+            bar: None,
+        })
+    }
+}
+
+impl identify::Progress for Terminal {
+    fn note(&mut self, line: &str) {
+        eprintln!("{line}");
+    }
+    fn print(&mut self, text: &str) {
+        print!("{text}");
+    }
+    fn start(&mut self, total: u64) {
+        let bar = ProgressBar::new(total);
+        bar.set_style(self.style.clone());
+        self.bar = Some(bar);
+    }
+    fn variant(&mut self, name: &'static str) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(name);
+        }
+    }
+    fn tick(&mut self) {
+        if let Some(bar) = &self.bar {
+            bar.inc(1);
+        }
+    }
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
 }
 
 fn run_robustness_report(runs: &[RunPaths], how: &str, output: &Path) -> Result<(), CliError> {

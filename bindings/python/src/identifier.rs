@@ -1,0 +1,299 @@
+//! The identifiers of the C interface as Python classes: one `Identifier` class holding any
+//! of the eight kinds (the C interface's `ROTORID_KIND_*`, with the same codes, default
+//! settings and premise sets as `rotorid_init` with NULL `config` and `sets`), so that an
+//! export is byte for byte the C interface's (and the firmware's) for the same samples.
+//!
+//! Samples are in the core's axes and units (`rotorid::HoverSample`, as `rotorid_sample_t`):
+//! time (µs), attitude `[φ θ ψ]` (rad, ZYX Euler), velocity `[v_x v_y v_z]` (m/s, paper axes:
+//! x east, y up, z south), rates `[q r p]` (deg/s), controls `[u_col u_ped u_lon u_lat]`.
+
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use rotorid::hover::{flight_sets, Attitude, Controls, HoverState, StepOutput};
+use rotorid::snapshot::Snapshot;
+use rotorid::{
+    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
+    FlightPlainIdentifier, HoverConfig, HoverSample, PaperFuzzyIdentifier, PaperLocalIdentifier,
+    PaperPlainIdentifier,
+};
+
+use crate::errors;
+
+/// Floats of one sample in a `step_many` block: attitude 3, velocity 3, rates 3, controls 4.
+pub const FLOATS_PER_SAMPLE: usize = 13;
+
+/// Every kind: its variant, name, C code, type and constructor (the list every call
+/// dispatches through).
+macro_rules! kinds {
+    ($($Var:ident, $name:literal, $code:literal, $T:ty, $new:expr;)*) => {
+        enum Any {
+            $($Var(Box<$T>),)*
+        }
+
+        /// The kind names, in C code order.
+        pub const KIND_NAMES: &[&str] = &[$($name),*];
+
+        fn build(name: &str) -> Option<Result<Any, rotorid::Error>> {
+            match name {
+                $($name => Some($new(HoverConfig::default()).map(|i| Any::$Var(Box::new(i)))),)*
+                _ => None,
+            }
+        }
+
+        impl Any {
+            fn name(&self) -> &'static str {
+                match self { $(Any::$Var(_) => $name,)* }
+            }
+            fn code(&self) -> u32 {
+                match self { $(Any::$Var(_) => $code,)* }
+            }
+        }
+
+        macro_rules! with {
+            ($any:expr, $id:ident => $body:expr) => {
+                match $any { $(Any::$Var($id) => $body,)* }
+            };
+        }
+    };
+}
+
+kinds! {
+    Flight, "flight", 1, FlightIdentifier<f32>, |c| FlightIdentifier::<f32>::flight(c, flight_sets());
+    FlightPlain, "flight_plain", 2, FlightPlainIdentifier<f32>, FlightPlainIdentifier::<f32>::flight_plain;
+    PaperFuzzy, "paper_fuzzy", 3, PaperFuzzyIdentifier<f32>, PaperFuzzyIdentifier::<f32>::paper_fuzzy;
+    PaperPlain, "paper_plain", 4, PaperPlainIdentifier<f32>, PaperPlainIdentifier::<f32>::paper_plain;
+    ExtendedFuzzy, "extended_fuzzy", 5, ExtendedFuzzyIdentifier<f32>, ExtendedFuzzyIdentifier::<f32>::extended_fuzzy;
+    ExtendedPlain, "extended_plain", 6, ExtendedPlainIdentifier<f32>, ExtendedPlainIdentifier::<f32>::extended_plain;
+    PaperLocal, "paper_local", 7, PaperLocalIdentifier<f32>, PaperLocalIdentifier::<f32>::paper_local;
+    ExtendedLocal, "extended_local", 8, ExtendedLocalIdentifier<f32>, ExtendedLocalIdentifier::<f32>::extended_local;
+}
+
+fn sample(
+    time_us: u64,
+    attitude: [f32; 3],
+    velocity: [f32; 3],
+    rates: [f32; 3],
+    controls: [f32; 4],
+) -> HoverSample<f32> {
+    let [roll, pitch, yaw] = attitude;
+    let [col, ped, lon, lat] = controls;
+    HoverSample {
+        time_us,
+        attitude: Attitude { roll, pitch, yaw },
+        velocity,
+        rates,
+        controls: Controls { col, ped, lon, lat },
+    }
+}
+
+fn state(s: &HoverState<f32>) -> [f32; 6] {
+    let [a, b, c] = s.velocity;
+    let [q, r, p] = s.rates;
+    [a, b, c, q, r, p]
+}
+
+impl Any {
+    fn step(&mut self, s: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
+        with!(self, id => id.step(s))
+    }
+    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
+        with!(self, id => id.resume(s))
+    }
+    fn reset(&mut self) {
+        with!(self, id => id.reset())
+    }
+    fn export_size(&self) -> usize {
+        fn size<I: Snapshot>(_: &I) -> usize {
+            I::SNAPSHOT_SIZE
+        }
+        with!(self, id => size(&**id))
+    }
+    fn export(&self) -> Option<Vec<u8>> {
+        let code = self.code();
+        let mut out = vec![0u8; self.export_size()];
+        let n = with!(self, id => id.write_snapshot(code, &mut out)).ok()?;
+        out.truncate(n);
+        Some(out)
+    }
+    fn import(&mut self, bytes: &[u8]) -> Result<(), rotorid::Error> {
+        let code = self.code();
+        with!(self, id => id.read_snapshot(code, bytes))
+    }
+}
+
+/// A hover identifier of one kind (`kind`: one of `KINDS`), stepping sample by sample.
+#[pyclass(subclass, module = "rotorid._rotorid")]
+pub struct Identifier {
+    inner: Any,
+}
+
+/// The outcome of `step_many`: predictions and innovations (n × 6 f32 each, NaN where the
+/// step made none) and the error that stopped it, if any.
+type Many = (Vec<f32>, Vec<f32>, Option<(usize, rotorid::Error)>);
+
+fn step_block(inner: &mut Any, times: &[u8], floats: &[u8]) -> Many {
+    let n = times.len() / 8;
+    let mut predictions = Vec::with_capacity(n * 6);
+    let mut innovations = Vec::with_capacity(n * 6);
+    let rows = times
+        .chunks_exact(8)
+        .zip(floats.chunks_exact(4 * FLOATS_PER_SAMPLE));
+    for (k, (t, f)) in rows.enumerate() {
+        let mut t8 = [0u8; 8];
+        t8.copy_from_slice(t);
+        let mut v = [0f32; FLOATS_PER_SAMPLE];
+        for (x, b) in v.iter_mut().zip(f.chunks_exact(4)) {
+            let mut b4 = [0u8; 4];
+            b4.copy_from_slice(b);
+            *x = f32::from_le_bytes(b4);
+        }
+        let [r, p, y, vx, vy, vz, q, rr, pp, c, pe, lo, la] = v;
+        let s = sample(
+            u64::from_le_bytes(t8),
+            [r, p, y],
+            [vx, vy, vz],
+            [q, rr, pp],
+            [c, pe, lo, la],
+        );
+        match inner.step(&s) {
+            Ok(out) => {
+                predictions.extend(state(&out.prediction));
+                match &out.innovation {
+                    Some(i) => innovations.extend(state(i)),
+                    None => innovations.extend([f32::NAN; 6]),
+                }
+            }
+            Err(e) => return (predictions, innovations, Some((k, e))),
+        }
+    }
+    (predictions, innovations, None)
+}
+
+fn f32_bytes(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+#[pymethods]
+impl Identifier {
+    /// A new identifier of `kind` ("flight", "flight_plain", "paper_fuzzy", "paper_plain",
+    /// "extended_fuzzy", "extended_plain", "paper_local", "extended_local") with the default
+    /// settings (U-D RLS, α = 10⁶, λ = 1, 50 Hz).
+    #[new]
+    fn new(kind: &str) -> PyResult<Self> {
+        match build(kind) {
+            Some(Ok(inner)) => Ok(Self { inner }),
+            Some(Err(e)) => Err(errors::core(e, kind)),
+            None => Err(errors::input(format!(
+                "unknown identifier kind {:?}; expected one of {}",
+                kind.chars().take(40).collect::<String>(),
+                KIND_NAMES.join(", ")
+            ))),
+        }
+    }
+
+    /// The kind's name.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    /// The kind's code in the C interface (`ROTORID_KIND_*`).
+    #[getter]
+    fn kind_code(&self) -> u32 {
+        self.inner.code()
+    }
+
+    /// Bytes of an export (`ROTORID_<KIND>_EXPORT_SIZE`).
+    #[getter]
+    fn export_size(&self) -> usize {
+        self.inner.export_size()
+    }
+
+    /// Takes one sample; returns `(prediction, innovation)`: the one-step prediction of the
+    /// next sample's state `[v_x v_y v_z q r p]` (m/s, deg/s) and the prior innovation of
+    /// this update (`None` when the step only started a sample chain).
+    fn step(
+        &mut self,
+        time_us: u64,
+        attitude: [f32; 3],
+        velocity: [f32; 3],
+        rates: [f32; 3],
+        controls: [f32; 4],
+    ) -> PyResult<([f32; 6], Option<[f32; 6]>)> {
+        let s = sample(time_us, attitude, velocity, rates, controls);
+        let out = self.inner.step(&s).map_err(|e| errors::core(e, ""))?;
+        Ok((state(&out.prediction), out.innovation.as_ref().map(state)))
+    }
+
+    /// Restarts the sample chain at this sample (after a gap) without learning; returns the
+    /// measured state.
+    fn resume(
+        &mut self,
+        time_us: u64,
+        attitude: [f32; 3],
+        velocity: [f32; 3],
+        rates: [f32; 3],
+        controls: [f32; 4],
+    ) -> PyResult<[f32; 6]> {
+        let s = sample(time_us, attitude, velocity, rates, controls);
+        let out = self.inner.resume(&s).map_err(|e| errors::core(e, ""))?;
+        Ok(state(&out))
+    }
+
+    /// Forgets everything learnt (the parameters back to their initial values).
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+
+    /// Steps over a block: `times` n little-endian u64 (µs), `floats` n × 13 little-endian
+    /// f32 (attitude, velocity, rates, controls). Returns `(predictions, innovations)` as
+    /// bytes of n × 6 f32 (NaN innovations where a step only started a chain); raises at the
+    /// first refused sample (the steps before it stay learnt). The GIL is released while stepping. Called by `step_many`.
+    fn _step_block<'py>(
+        &mut self,
+        py: Python<'py>,
+        times: &[u8],
+        floats: &[u8],
+    ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
+        let n = times.len() / 8;
+        if !times.len().is_multiple_of(8) || floats.len() != n * 4 * FLOATS_PER_SAMPLE {
+            return Err(errors::input(format!(
+                "step block: {} time bytes and {} float bytes do not make whole samples",
+                times.len(),
+                floats.len()
+            )));
+        }
+        let inner = &mut self.inner;
+        let (pred, innov, err) = py.detach(|| step_block(inner, times, floats));
+        if let Some((k, e)) = err {
+            return Err(errors::core(e, &format!("sample {k}")));
+        }
+        Ok((
+            PyBytes::new(py, &f32_bytes(&pred)),
+            PyBytes::new(py, &f32_bytes(&innov)),
+        ))
+    }
+
+    /// The export (warm start across flights): the C interface's `rotorid_export` bytes,
+    /// header "RIDX", format version 2, the kind code, every model's RLS state, CRC-32.
+    fn export<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        match self.inner.export() {
+            Some(bytes) => Ok(PyBytes::new(py, &bytes)),
+            None => Err(errors::input(
+                "export: the buffer is smaller than the export",
+            )),
+        }
+    }
+
+    /// Imports an export of the same kind (length, CRC, header and every value are checked
+    /// before anything changes; on an error the identifier is unchanged).
+    fn import_(&mut self, data: &[u8]) -> PyResult<()> {
+        self.inner
+            .import(data)
+            .map_err(|e| errors::core(e, "import"))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<rotorid identifier kind={:?}>", self.inner.name())
+    }
+}

@@ -1,0 +1,601 @@
+//! `rotorid identify` as a library call: read the logs, split off the verification data,
+//! evaluate every identifier variant, give the verdict and the derivatives, and (optionally)
+//! write metrics.json, params-*.json and the figures.
+//!
+//! The command-line tool and the Python package both call [`identify`]; what the tool prints
+//! goes through a [`Progress`] (stderr notes, stdout text, the progress bar), so that a caller
+//! without a terminal collects it instead, and the returned [`Outcome`] holds the metrics as
+//! values ([`Outcome::metrics_json`] is metrics.json byte for byte).
+
+use std::path::{Path, PathBuf};
+
+use crate::experiments::{self, EvaluateError, ModelParameters, TABLE4_VARIANTS};
+use crate::import::{self, ImportError};
+use crate::report::{self, FigureError, Metrics, Table4};
+use rotorid_sim::flights;
+
+/// What the free run's parameters are compensated for (`--gyro-noise`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GyroNoise {
+    /// Estimated from the training logs.
+    Auto,
+    /// Not compensated.
+    None,
+    /// σ of `[q r p]` (deg/s).
+    Given([f32; 3]),
+}
+
+/// The one-step observer's gain (`--observer-gain`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ObserverGain {
+    /// Found on the training logs, per variant.
+    Auto,
+    /// K of `[v_x v_y v_z q r p]` (0 to 1).
+    Given([f32; 6]),
+}
+
+/// The arguments of an identification (those of `rotorid identify`, resolved).
+#[derive(Clone, Debug)]
+pub struct IdentifyArgs {
+    /// Training logs, learnt one after another.
+    pub train: Vec<PathBuf>,
+    /// Verification log (its longest segment); `None` holds out part of the training data.
+    pub verify: Option<PathBuf>,
+    /// Fraction held out for verification when `verify` is `None`.
+    pub holdout: f64,
+    /// Rate and time cuts of the import.
+    pub options: import::ImportOptions,
+    /// Print every variant's tables and every import note, not only the verdict.
+    pub full: bool,
+    /// Directory for metrics.json, params-*.json and the figures; `None` writes no file.
+    pub out: Option<PathBuf>,
+    /// Free-run window (s).
+    pub window: f64,
+    /// Plot only the first seconds of the verification flight.
+    pub plot_span: Option<f64>,
+    /// Do not write the PNG figures.
+    pub no_plots: bool,
+    /// A params-*.json to warm start the first variant from.
+    pub warm_start: Option<PathBuf>,
+    /// What the free run's parameters are compensated for.
+    pub gyro_noise: GyroNoise,
+    /// The velocity the free run feeds the models.
+    pub free_run_velocity: experiments::FreeRunVelocity,
+    /// The one-step observer's gain.
+    pub observer_gain: ObserverGain,
+}
+
+impl IdentifyArgs {
+    /// The defaults of `rotorid identify` for these training logs, writing no file.
+    pub fn new(train: Vec<PathBuf>) -> Self {
+        Self {
+            train,
+            verify: None,
+            holdout: 0.3,
+            options: import::ImportOptions::default(),
+            full: false,
+            out: None,
+            window: 2.0,
+            plot_span: None,
+            no_plots: false,
+            warm_start: None,
+            gyro_noise: GyroNoise::Auto,
+            free_run_velocity: experiments::FreeRunVelocity::Model,
+            observer_gain: ObserverGain::Auto,
+        }
+    }
+}
+
+/// Where an identification reports while it runs. Every method does nothing by default.
+pub trait Progress {
+    /// One line for the user beside the results (the tool's stderr: notes, warnings).
+    fn note(&mut self, _line: &str) {}
+    /// Result text (the tool's stdout: the verdict, the derivatives, `--full` tables).
+    fn print(&mut self, _text: &str) {}
+    /// Evaluation starts: `total` samples to go through.
+    fn start(&mut self, _total: u64) {}
+    /// The variant now evaluated.
+    fn variant(&mut self, _name: &'static str) {}
+    /// One sample done.
+    fn tick(&mut self) {}
+    /// Evaluation done.
+    fn finish(&mut self) {}
+}
+
+/// A [`Progress`] that collects the notes and the printed text (for callers without a
+/// terminal, such as the Python package).
+#[derive(Clone, Debug, Default)]
+pub struct Collect {
+    /// Every note, in order.
+    pub notes: Vec<String>,
+    /// Everything printed, concatenated.
+    pub text: String,
+}
+
+impl Progress for Collect {
+    fn note(&mut self, line: &str) {
+        self.notes.push(line.to_string());
+    }
+    fn print(&mut self, text: &str) {
+        self.text.push_str(text);
+    }
+}
+
+/// What an identification gives back.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct Outcome {
+    /// Everything metrics.json holds (the verdict, every variant, the derivatives).
+    pub metrics: Metrics,
+    /// The verification samples the scores were computed on.
+    pub verification: Vec<rotorid::hover::HoverSample<f32>>,
+    /// Figures written (0 without `out` or with `no_plots`).
+    pub figures: usize,
+}
+
+impl Outcome {
+    /// metrics.json's text, byte for byte what [`identify`] writes.
+    ///
+    /// # Errors
+    /// [`IdentifyError::ToJson`] when a value cannot be encoded.
+    pub fn metrics_json(&self) -> Result<String, IdentifyError> {
+        json_text(Path::new("metrics.json"), &self.metrics)
+    }
+}
+
+/// What went wrong in an identification.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IdentifyError {
+    /// The free-run window is out of range.
+    #[error("--window must be in (0, 3600] s, got {0}")]
+    Window(f64),
+    /// No training log was given.
+    #[error("no log to identify from: give LOG... (or --train LOG...)")]
+    NoLogs,
+    /// A log could not be imported.
+    #[error(transparent)]
+    Import(#[from] ImportError),
+    /// The verification log has no usable samples.
+    #[error("{}: no samples", .0.display())]
+    NoSamples(PathBuf),
+    /// The training data cannot be split into training and verification.
+    #[error(transparent)]
+    Split(#[from] crate::holdout::SplitError),
+    /// Too little verification data.
+    #[error("{}: needs at least 2 samples", .0.display())]
+    TooFewSamples(PathBuf),
+    /// The warm-start file cannot be read.
+    #[error("{}: cannot read", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A file cannot be written.
+    #[error("{}: cannot write", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The output directory cannot be created.
+    #[error("{}: cannot create the directory", path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The warm-start file is not a params-*.json.
+    #[error("{}: not the expected JSON", path.display())]
+    ParseJson {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: serde_json::Error,
+    },
+    /// A result cannot be encoded.
+    #[error("{}: cannot encode as JSON", path.display())]
+    ToJson {
+        /// The file it was for.
+        path: PathBuf,
+        /// Why.
+        source: serde_json::Error,
+    },
+    /// A variant's evaluation failed.
+    #[error(transparent)]
+    Evaluate(#[from] EvaluateError),
+    /// The f32 against f64 comparison failed.
+    #[error("comparing f32 with f64")]
+    Precision(#[source] rotorid::Error),
+    /// A figure cannot be drawn or written.
+    #[error(transparent)]
+    Figure(#[from] FigureError),
+}
+
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, IdentifyError> {
+    let text = std::fs::read_to_string(path).map_err(|source| IdentifyError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    serde_json::from_str(&text).map_err(|source| IdentifyError::ParseJson {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Pretty JSON with a final newline (the text of every JSON file the tool writes).
+fn json_text(path: &Path, value: &impl serde::Serialize) -> Result<String, IdentifyError> {
+    serde_json::to_string_pretty(value)
+        .map(|text| text + "\n")
+        .map_err(|source| IdentifyError::ToJson {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
+fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), IdentifyError> {
+    let text = json_text(path, value)?;
+    std::fs::write(path, text).map_err(|source| IdentifyError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Reads a log of any format (CSV, ULog, DataFlash, sdlog2) as `options` say.
+fn read(path: &Path, options: &import::ImportOptions) -> Result<import::Imported, IdentifyError> {
+    Ok(import::import_with(path, options)?)
+}
+
+/// The import's warnings, and its notes (`full`) or a one-line summary of them, as lines.
+pub fn import_notes(
+    path: &Path,
+    imported: &import::Imported,
+    used: &[&import::Segment],
+    full: bool,
+) -> Vec<String> {
+    let file = path.display().to_string();
+    let mut lines = Vec::new();
+    if full || imported.notes.len() <= 2 {
+        for n in &imported.notes {
+            lines.push(format!("note: {n}"));
+        }
+    } else {
+        lines.push(format!(
+            "note: {file}: {} notes ({} cuts; --full lists them)",
+            imported.notes.len(),
+            imported.cuts.len()
+        ));
+    }
+    for w in &imported.warnings {
+        lines.push(format!("warning: {w}"));
+    }
+    for seg in used {
+        for w in crate::log::warnings(&file, seg) {
+            lines.push(format!("warning: {w}"));
+        }
+    }
+    lines
+}
+
+fn report_import(
+    progress: &mut dyn Progress,
+    path: &Path,
+    imported: &import::Imported,
+    used: &[&import::Segment],
+    full: bool,
+) {
+    for line in import_notes(path, imported, used, full) {
+        progress.note(&line);
+    }
+}
+
+/// Reads every log at one rate: each at the rate its channels support, then those faster
+/// than the slowest again at that (a model is learnt at one sample period).
+fn read_all(
+    paths: &[&Path],
+    options: &import::ImportOptions,
+) -> Result<Vec<import::Imported>, IdentifyError> {
+    let mut imported = paths
+        .iter()
+        .map(|p| read(p, options))
+        .collect::<Result<Vec<_>, _>>()?;
+    let rate = imported
+        .iter()
+        .map(|i| i.rate_hz)
+        .min_by(f64::total_cmp)
+        .unwrap_or(import::resample::RATE_HZ);
+    for (p, i) in paths.iter().zip(imported.iter_mut()) {
+        if i.rate_hz != rate {
+            *i = read(
+                p,
+                &import::ImportOptions {
+                    rate_hz: Some(rate),
+                    ..*options
+                },
+            )?;
+        }
+    }
+    Ok(imported)
+}
+
+/// The same file given twice (by path or by content).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) if x == y => return true,
+        _ => {}
+    }
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) if x.len() == y.len() => {
+            matches!((std::fs::read(a), std::fs::read(b)), (Ok(x), Ok(y)) if x == y)
+        }
+        _ => false,
+    }
+}
+
+/// Identifies hover models from the logs of `args` (what `rotorid identify` does).
+///
+/// # Errors
+/// [`IdentifyError`]: bad arguments, a log that cannot be imported or split, a failed
+/// evaluation, a file that cannot be written.
+pub fn identify(
+    args: &IdentifyArgs,
+    progress: &mut dyn Progress,
+) -> Result<Outcome, IdentifyError> {
+    let window = args.window;
+    if !(window.is_finite() && window > 0.0 && window <= 3600.0) {
+        return Err(IdentifyError::Window(window));
+    }
+    if args.train.is_empty() {
+        return Err(IdentifyError::NoLogs);
+    }
+    let mut paths: Vec<&Path> = args.train.iter().map(PathBuf::as_path).collect();
+    if let Some(v) = &args.verify {
+        paths.push(v);
+    }
+    let imported = read_all(&paths, &args.options)?;
+    let rate_hz = imported
+        .first()
+        .map_or(import::resample::RATE_HZ, |i| i.rate_hz);
+    let mut labelled = Vec::new();
+    for (path, im) in args.train.iter().zip(&imported) {
+        let used = import::segments_for_identify(im, true);
+        report_import(progress, path, im, &used, args.full);
+        for (k, seg) in im.segments.iter().enumerate() {
+            if used.iter().any(|u| std::ptr::eq(*u, seg)) {
+                labelled.push(crate::holdout::Labelled {
+                    file: path.display().to_string(),
+                    segment: k + 1,
+                    samples: seg.clone(),
+                });
+            }
+        }
+    }
+    let split = match (&args.verify, imported.last()) {
+        (Some(v), Some(im)) => {
+            let longest = im
+                .longest()
+                .ok_or_else(|| IdentifyError::NoSamples(v.to_path_buf()))?;
+            report_import(progress, v, im, &[longest], args.full);
+            if args.train.iter().any(|t| same_file(t, v)) {
+                progress.note(&format!(
+                    "warning: {} is also a training log: the scores measure how well the models fit it, not how they predict; leave out --verify to hold part of the data out",
+                    v.display()
+                ));
+            }
+            crate::holdout::Split {
+                training: labelled.into_iter().map(|l| l.samples).collect(),
+                verification: longest.clone(),
+                how: format!("verified on {} (its longest segment)", v.display()),
+            }
+        }
+        _ => crate::holdout::split(labelled, args.holdout, import::min_useful_samples(rate_hz))?,
+    };
+    let verify_name = args
+        .verify
+        .as_ref()
+        .map_or_else(|| "held-out data".to_string(), |v| v.display().to_string());
+    if split.verification.len() < 2 {
+        return Err(IdentifyError::TooFewSamples(PathBuf::from(&verify_name)));
+    }
+    let training: Vec<Vec<rotorid::hover::HoverSample<f32>>> = split
+        .training
+        .iter()
+        .map(|s| flights::to_hover_samples(s))
+        .collect();
+    let verification = flights::to_hover_samples(&split.verification);
+    let warm: Option<Vec<ModelParameters>> =
+        args.warm_start.as_deref().map(read_json).transpose()?;
+    let out = args.out.as_deref();
+    if let Some(out) = out {
+        std::fs::create_dir_all(out).map_err(|source| IdentifyError::CreateDir {
+            path: out.to_path_buf(),
+            source,
+        })?;
+    }
+
+    let gyro_noise = match args.gyro_noise {
+        // RateNoise's third differences are noise only when the rates are sampled well above
+        // the body dynamics (50 Hz for a helicopter); at a log's lower rate they are mostly
+        // motion, and compensating for that would spoil the free run.
+        GyroNoise::Auto if rate_hz >= import::resample::RATE_HZ => {
+            experiments::gyro_noise_of(&training)
+        }
+        GyroNoise::Auto => {
+            progress.note(&format!(
+                "note: at {rate_hz} Hz the rates' differences are mostly motion, not gyro noise: the free runs are not compensated for it (give --gyro-noise with the gyro's data-sheet σ)"
+            ));
+            None
+        }
+        GyroNoise::None => None,
+        GyroNoise::Given(sigma) => Some(sigma),
+    };
+    let n_train: usize = training.iter().map(Vec::len).sum();
+    progress.note(&format!(
+        "identifying at {rate_hz} Hz: {:.1} s of training data in {} segment(s), {:.1} s to verify; {}",
+        n_train as f64 / rate_hz,
+        training.len(),
+        verification.len() as f64 / rate_hz,
+        split.how
+    ));
+    if args.full {
+        if let Some([q, r, p]) = gyro_noise {
+            progress.note(&format!(
+                "free runs compensated for gyro noise σ = {q:.3}, {r:.3}, {p:.3} deg/s (q, r, p)"
+            ));
+        }
+    }
+    if args.free_run_velocity == experiments::FreeRunVelocity::Measured {
+        progress
+            .note("free runs on the measured velocity: the rates run free, the velocities do not");
+    }
+    let variants = experiments::variants();
+    let total = (n_train + verification.len()) * variants.len();
+    progress.start(total as u64);
+    let mut results = Vec::new();
+    for (i, v) in variants.iter().enumerate() {
+        progress.variant(v.name);
+        let warm = if i == 0 { warm.as_deref() } else { None };
+        let mut tick = || progress.tick();
+        let settings = experiments::EvaluationSettings {
+            window_s: window,
+            gyro_noise,
+            velocity: args.free_run_velocity,
+            observer_gain: match args.observer_gain {
+                ObserverGain::Auto => None,
+                ObserverGain::Given(gain) => Some(gain),
+            },
+            rate_hz,
+        };
+        results.push(experiments::evaluate(
+            v,
+            &training,
+            &verification,
+            settings,
+            warm,
+            &mut tick,
+        )?);
+    }
+    progress.finish();
+
+    let table4 = match (
+        results.get(TABLE4_VARIANTS.0),
+        results.get(TABLE4_VARIANTS.1),
+    ) {
+        (Some(f), Some(p)) => Some(Table4::new(f.one_step, p.one_step)),
+        _ => None,
+    };
+    if args.full {
+        progress.print(&format!(
+            "Table 4 analogue: mean absolute one-step error over {verify_name} (θ frozen after training on {n_train} samples)\n\n"
+        ));
+        if let Some(t) = &table4 {
+            progress.print(&experiments::format_table4(&t.fuzzy, &t.plain));
+        }
+        progress.print("\n");
+        progress.print(&report::format_variants(&results, window));
+    }
+
+    if let Some(out) = out {
+        for r in &results {
+            let name = r.name.replace(' ', "-");
+            write_json(&out.join(format!("params-{name}.json")), &r.parameters)?;
+            if let Some(p) = &r.compensated_parameters {
+                write_json(&out.join(format!("params-{name}-compensated.json")), p)?;
+            }
+        }
+    }
+    // f32 against f64 for the extended structures (issue 5): same logs, same settings.
+    let precision =
+        crate::precision::extended_f32_vs_f64(&training).map_err(IdentifyError::Precision)?;
+    if args.full {
+        for p in &precision {
+            progress.print(&format!(
+                "{}: f32 vs f64, {} of {} parameters well excited, relative difference max {:.2e}, median {:.2e}\n",
+                p.variant, p.compared, p.parameters, p.max_relative, p.median_relative
+            ));
+        }
+    }
+    let verdict = crate::verdict::verdict(&results, &split.training, rate_hz);
+    match &verdict {
+        Some(v) => progress.print(&crate::verdict::format_verdict(v, window)),
+        None => progress.print(
+            "No verdict: no candidate model could be scored against hold (each left the sample limits in a free-run window, or a state never moved); see metrics.json, or --full\n",
+        ),
+    }
+    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
+        split.training.iter().map(Vec::as_slice).collect();
+    let derivatives = crate::derivatives::derivatives(&segments, rate_hz);
+    let text = crate::derivatives::format_derivatives(&derivatives);
+    progress.print(&format!("{}\n", text.trim_end()));
+    let metrics = Metrics {
+        precision,
+        training_files: args.train.iter().map(|p| p.display().to_string()).collect(),
+        training_samples: n_train,
+        verification_file: verify_name,
+        verification_samples: verification.len(),
+        window_s: window,
+        gyro_noise_deg_s: gyro_noise,
+        free_run_velocity: args.free_run_velocity,
+        states: report::state_labels(),
+        variants: results,
+        table4,
+        rate_hz,
+        split: split.how.clone(),
+        logs: paths
+            .iter()
+            .zip(&imported)
+            .map(|(p, im)| report::LogSummary::of(&p.display().to_string(), im))
+            .collect(),
+        verdict,
+        derivatives: Some(derivatives),
+    };
+    let mut figures = 0;
+    if let Some(out) = out {
+        write_json(&out.join("metrics.json"), &metrics)?;
+        if !args.no_plots {
+            // The model to fly and the linear baseline; every variant with --full.
+            let mut shown: Vec<&str> = metrics
+                .verdict
+                .as_ref()
+                .map(|v| v.model.as_str())
+                .into_iter()
+                .chain([crate::verdict::BASELINE])
+                .collect();
+            shown.dedup();
+            if args.full {
+                shown = metrics
+                    .variants
+                    .iter()
+                    .map(|v| v.name.as_str())
+                    .take(5)
+                    .collect();
+            }
+            figures = report::write_figures(
+                out,
+                &verification,
+                &metrics.variants,
+                &shown,
+                args.plot_span,
+            )?
+            .len();
+        }
+        progress.print(&format!(
+            "Files: {}: metrics.json (every variant, the import's cuts and rates), params-*.json{}\n",
+            out.display(),
+            if figures > 0 {
+                format!(", {figures} figures")
+            } else {
+                String::new()
+            }
+        ));
+    }
+    Ok(Outcome {
+        metrics,
+        verification,
+        figures,
+    })
+}

