@@ -13,3 +13,6 @@ cargo test --workspace
 # The C interface (its own workspace: a static library aborts on panic): the header is up to
 # date, and a C program on the host and a C firmware under QEMU match rotorid bit for bit.
 cargo test --manifest-path core/ffi/Cargo.toml
+# The Python package: the wheel built and installed in a fresh venv, its tests (identical
+# bytes to the CLI and the C interface, bad input, a Dask fleet, the example notebook).
+bash scripts/python.sh
