@@ -29,25 +29,6 @@ fn f64_bytes(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
     values.into_iter().flat_map(f64::to_le_bytes).collect()
 }
 
-fn row(s: &SensorSample) -> [f64; LOG_COLUMNS] {
-    [
-        s.t,
-        s.sticks.col,
-        s.sticks.ped,
-        s.sticks.lon,
-        s.sticks.lat,
-        s.roll,
-        s.pitch,
-        s.yaw,
-        s.v_north,
-        s.v_east,
-        s.v_down,
-        s.p,
-        s.q,
-        s.r,
-    ]
-}
-
 /// The rate of `--rate`: `None` (auto) or Hz from 1 to 1000 with a whole number of µs period.
 fn check_rate(rate: Option<f64>) -> PyResult<Option<f64>> {
     match rate {
@@ -92,7 +73,7 @@ fn read_log<'py>(
     for (k, seg) in imported.segments.iter().enumerate() {
         for s in seg {
             block.extend(((k + 1) as f64).to_le_bytes());
-            block.extend(f64_bytes(row(s)));
+            block.extend(f64_bytes(rotorid_cli::log::values(s)));
         }
     }
     let info = serde_json::json!({
@@ -347,7 +328,7 @@ fn simulate<'py>(
         }
         None => Ok(Some(PyBytes::new(
             py,
-            &f64_bytes(samples.iter().flat_map(row)),
+            &f64_bytes(samples.iter().flat_map(rotorid_cli::log::values)),
         ))),
     }
 }
