@@ -231,8 +231,9 @@ fn score(
     period_us: u32,
     window: usize,
     gyro_noise: Option<[f32; 3]>,
-) -> Result<[f64; 6], rotorid::Error> {
+) -> Result<Score, rotorid::Error> {
     let (mut error, mut hold) = ([0.0f64; 6], [0.0f64; 6]);
+    let mut diverged = 0;
     for split in folds {
         let mut id = masked_flight(mask, period_us)?;
         train(&mut id, &split.learn, &mut || {});
@@ -243,6 +244,7 @@ fn score(
         }
         for block in &split.check {
             let run = free_run(&id, block, window, FreeRunVelocity::Model);
+            diverged += run.diverged;
             let weight = block.len().saturating_sub(1) as f64;
             for i in 0..6 {
                 error[i] += run.error[i] * weight;
@@ -250,19 +252,44 @@ fn score(
             }
         }
     }
-    Ok(core::array::from_fn(|i| {
+    let ratios = core::array::from_fn(|i| {
         if hold[i] > 0.0 {
             error[i] / hold[i]
         } else {
             1.0
         }
-    }))
+    });
+    Ok(Score { diverged, ratios })
+}
+
+/// A candidate's free run on the check blocks.
+#[derive(Clone, Copy, Debug)]
+struct Score {
+    /// Windows whose state left the core's sample limits (the run stops there).
+    diverged: usize,
+    /// Free run / hold per state `[v_x v_y v_z q r p]` over the steps run.
+    ratios: [f64; 6],
+}
+
+impl Score {
+    /// The order of candidates for model `m`: fewer diverged windows first (a window that
+    /// diverged stopped early, so its error covers only the steps before and would flatter
+    /// the candidate), then the lower [`model_score`].
+    fn key(&self, m: usize) -> (usize, f64) {
+        (self.diverged, model_score(&self.ratios, m))
+    }
 }
 
 /// Geometric mean of `ratios` over model `m`'s axes (non-finite: infinitely bad).
 fn model_score(ratios: &[f64; 6], m: usize) -> f64 {
     let axes = AXES[m];
-    let log_sum: f64 = axes.iter().map(|&i| ratios[i].max(1e-12).ln()).sum();
+    let log_sum: f64 = axes
+        .iter()
+        .map(|&i| match ratios[i] {
+            r if r.is_nan() => f64::INFINITY,
+            r => r.max(1e-12).ln(),
+        })
+        .sum();
     let s = (log_sum / axes.len() as f64).exp();
     if s.is_finite() {
         s
@@ -293,31 +320,34 @@ pub fn select_terms(
     let gyro_noise = gyro_noise_of(training);
     let mut mask = TermMask::default();
     let mut current = score(mask, &folds, period_us, window, gyro_noise)?;
-    selection.full = current;
+    selection.full = current.ratios;
     selection.candidates = 1;
     for (m, optional) in OPTIONAL.iter().enumerate() {
         loop {
-            let mut best: Option<(f64, TermMask, [f64; 6])> = None;
+            let mut best: Option<(TermMask, Score)> = None;
             for &t in optional.iter().filter(|&&t| !mask.is_off(m, t)) {
                 let candidate = mask.without(m, t);
-                let ratios = score(candidate, &folds, period_us, window, gyro_noise)?;
+                let score = score(candidate, &folds, period_us, window, gyro_noise)?;
                 selection.candidates += 1;
-                let s = model_score(&ratios, m);
-                if best.as_ref().is_none_or(|(b, _, _)| s < *b) {
-                    best = Some((s, candidate, ratios));
+                if best.as_ref().is_none_or(|(_, b)| score.key(m) < b.key(m)) {
+                    best = Some((candidate, score));
                 }
             }
             match best {
-                Some((s, candidate, ratios)) if s <= model_score(&current, m) => {
+                // Ties go to the simpler model; a model that could not be scored at all
+                // (no finite score) replaces nothing.
+                Some((candidate, score))
+                    if score.key(m).1.is_finite() && score.key(m) <= current.key(m) =>
+                {
                     mask = candidate;
-                    current = ratios;
+                    current = score;
                 }
                 _ => break,
             }
         }
     }
     selection.mask = mask;
-    selection.selected = current;
+    selection.selected = current.ratios;
     Ok(selection)
 }
 
