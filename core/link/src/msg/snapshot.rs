@@ -305,16 +305,21 @@ impl ImportProgress {
             && c.total == self.total
             && c.crc == self.crc;
         let start = self.received as usize;
-        let end = start.saturating_add(c.data.len());
-        let fits = end <= self.total as usize;
-        let dst = buf.get_mut(start..end).filter(|_| continues && fits);
-        let Some(dst) = dst else {
+        let end = start
+            .checked_add(c.data.len())
+            .filter(|&end| continues && end <= self.total as usize);
+        let dst = end.and_then(|end| buf.get_mut(start..end).map(|dst| (end, dst)));
+        let Some((end, dst)) = dst else {
             return Err(StageError::OutOfOrder {
                 expected: self.received,
                 got: c.offset,
             });
         };
-        dst.copy_from_slice(c.data);
+        // Element by element: the lengths are equal by construction, and a zip has no
+        // length-mismatch panic for the firmware's no-panic check to find.
+        for (d, &b) in dst.iter_mut().zip(c.data) {
+            *d = b;
+        }
         self.digest.update(c.data);
         self.received = end as u32;
         if self.received < self.total {
