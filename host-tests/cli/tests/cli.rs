@@ -393,6 +393,24 @@ fn end_to_end_on_a_short_flight() {
         .split_once("## The hover one-step miss on q and the second-order term")
         .unwrap_or_else(|| panic!("no second-order section in:\n{md}"));
     assert!(second_order.contains("### Fam: with / without the second-order term"));
+    // Between them, the model the verdict chose on each plant: the same on two equal plants.
+    let (criteria, choice) = criteria
+        .split_once("## The model the verdict chooses")
+        .unwrap_or_else(|| panic!("no section on the verdict's choice in:\n{md}"));
+    let chosen: Vec<&str> = choice
+        .lines()
+        .filter(|l| l.starts_with("| plant "))
+        .collect();
+    assert_eq!(chosen.len(), 3, "{choice}");
+    assert_eq!(
+        chosen[1].replace("plant A", "plant B"),
+        chosen[2],
+        "{choice}"
+    );
+    assert!(
+        choice.contains("Of 4 runs (hover and envelope)"),
+        "{choice}"
+    );
     let pairs: Vec<&str> = second_order
         .lines()
         .filter(|l| l.starts_with("| plant "))
