@@ -4,15 +4,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+part() { echo "-- $1 (at $((SECONDS / 60)) min $((SECONDS % 60)) s)"; }
 # The core on its own, without its `std` feature (in a workspace build the host crate turns it
 # on): its golden test proves the bits do not depend on the feature.
+part core
 cargo test -p rotorid
-# Everything, optimised and in debug: the golden files must come out of both.
+# Everything, optimised.
+part "workspace, release"
 cargo test --workspace --release
-cargo test --workspace
+# In debug, what can depend on the build profile: the bits (the golden files, the agreement
+# with the reference) and the overflow checks (every crate's unit tests, the properties). The
+# end-to-end runs (QEMU, the CLI's flights, the soak) compute with the same core and run once,
+# optimised: in debug they took 13 of the suite's 15 minutes (docs/workspace.md).
+part "workspace, debug"
+cargo test --workspace --lib --bins --test golden --test properties --test reference_agreement
 # The C interface (its own workspace: a static library aborts on panic): the header is up to
 # date, and a C program on the host and a C firmware under QEMU match rotorid bit for bit.
+part "C interface"
 cargo test --manifest-path core/ffi/Cargo.toml
 # The Python package: the wheel built and installed in a fresh venv, its tests (identical
 # bytes to the CLI and the C interface, bad input, a Dask fleet, the example notebook).
+part Python
 bash scripts/python.sh
+part done
