@@ -26,7 +26,6 @@ pub mod error;
 pub mod frames;
 pub mod hover;
 pub mod learning;
-pub mod local;
 pub mod membership;
 pub mod premise;
 pub mod record;
@@ -44,11 +43,11 @@ pub use hover::{
     PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier, RateNoise,
 };
 pub use learning::{Learning, TsEstimator};
-pub use local::LocalTsRls;
 pub use membership::MembershipFunction;
 pub use rls::{
     Algorithm, Compensation, NotCompensated, RegressorNoise, Rls, RlsConfig, RlsState, RlsView,
 };
 pub use rule_base::RuleBase;
 pub use scalar::Real;
+pub use ts::local::{self, LocalTsRls};
 pub use ts::{Scaling, TsRls};

@@ -29,6 +29,7 @@
 //! `R·D`-parameter update (`O(R² D²)`); memory `R·(D + D(D+1)/2)` instead of
 //! `R·D + R·D(R·D+1)/2`.
 
+use super::{combine, constructors, predict_from_blocks, prepare_rows, Prepared, Scaling};
 use crate::error::{Error, Quantity};
 use crate::rls::{
     AllParameters, Compensation, Measurement, RegressorNoise, Rls, RlsConfig, RlsCore, RlsState,
@@ -36,7 +37,6 @@ use crate::rls::{
 };
 use crate::rule_base::RuleBase;
 use crate::scalar::{within, Real};
-use crate::ts::{combine, constructors, predict_from_blocks, prepare_rows, Prepared, Scaling};
 
 /// Rules with a normalised firing strength below this learn nothing from a sample (see the
 /// [module docs](self)).
