@@ -511,39 +511,6 @@ fn the_flight_identifier_runs_in_f64() {
     }
 }
 
-#[test]
-fn shared_strengths_are_taken_only_by_the_same_premise_and_sets() {
-    use rotorid::hover::{table3::three_sets, SharedStrengths};
-    let none = PremiseSets::<f32>::new;
-    let forward = RuleBase::<f32, 3, 3>::new([flight_sets(), none(), none()]).unwrap();
-    let xi = forward.firing_strengths(&[4.0, 1.0, 0.0]).unwrap();
-    let shared = SharedStrengths::new(Premise::HeadingVelocity, &forward, &xi);
-    let twin = RuleBase::<f32, 3, 3>::new([flight_sets(), none(), none()]).unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &twin), Some(&xi));
-    // Another premise, other sets, the same sets on another variable, another rule count.
-    assert_eq!(shared.for_rules(Premise::Velocity, &twin), None);
-    let moved = three_sets((0.0, 2.5), (5.5, 2.5), (10.0, 2.5));
-    let moved = RuleBase::<f32, 3, 3>::new([moved, none(), none()]).unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &moved), None);
-    let side = RuleBase::<f32, 3, 3>::new([none(), flight_sets(), none()]).unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &side), None);
-    let one = RuleBase::<f32, 3, 1>::single_rule().unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &one), None);
-    // Sets are compared bit for bit: a centre of −0 is another set (which would give the
-    // same strengths, but sharing does not rely on that).
-    let minus = three_sets((-0.0, 2.5), (5.0, 2.5), (10.0, 2.5));
-    let minus = RuleBase::<f32, 3, 3>::new([minus, none(), none()]).unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &minus), None);
-    // A shoulder where the twin has a Gaussian, same centre and spread.
-    let mut kinds = flight_sets::<f32>();
-    kinds[1] = LeftShoulder {
-        centre: 5.0,
-        spread: 2.5,
-    };
-    let kinds = RuleBase::<f32, 3, 3>::new([kinds, none(), none()]).unwrap();
-    assert_eq!(shared.for_rules(Premise::HeadingVelocity, &kinds), None);
-}
-
 /// Each rule's θ_i is the fuzzily weighted least-squares fit of the data with weights ξ_i,
 /// `θ_i = (Σ ξ_i Δ Δᵀ + P(0)⁻¹)⁻¹ Σ ξ_i Δ y`, solved here in batch (nalgebra, f64), for
 /// both forms, on two rules that overlap and a few rows of weight under 1 %. A weight taken

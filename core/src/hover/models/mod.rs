@@ -51,27 +51,88 @@ macro_rules! forward_to_estimator {
         fn premise_sets(&self) -> (Premise, &[crate::rule_base::PremiseSets<T>]) {
             (self.premise, self.ts.rules().variables())
         }
-
-        fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
-            kept_by(self.premise, &self.ts)
-        }
     };
 }
 
 mod rate;
+#[cfg(test)]
+mod tests;
 mod velocity;
 
 pub use crate::hover::frame::{right_axis, rotor_axis, BodyFrame};
 pub use rate::{RateAxis, RateModel, RateStructure};
 pub use velocity::{VelocityModel, VelocityStructure};
 
+/// The identifier's speed-ups, in a private module so that nothing outside the crate can call
+/// or implement them (and so [`StateModel`] is sealed).
+pub(crate) mod sealed {
+    use super::{BodyFrame, SharedStrengths};
+    use crate::error::Error;
+    use crate::hover::sample::{HoverSample, HoverState};
+    use crate::scalar::Real;
+
+    /// The sealed part of [`StateModel`].
+    pub trait StepParts<T: Real> {
+        /// A checked update, ready to apply.
+        type Prepared;
+
+        /// [`prepare`](StateModel::prepare) with `from`'s body frame already computed (the identifier
+        /// keeps it from the previous step) and the state `[v^s, ω]` of the sample before `from`
+        /// (`before`; `from`'s own state when there is none), for the structures that read it
+        /// ([`RateStructure::Flight`]'s second-order term, [`VelocityStructure::Flight`]'s drag).
+        /// [`prepare`](StateModel::prepare) is this with `before = from.state()`.
+        ///
+        /// Only `from_frame` is read of `from`'s attitude, and nothing of `to`'s: the attitude may
+        /// come in any form.
+        fn prepare_in<A, B>(
+            &self,
+            from: &HoverSample<T, A>,
+            from_frame: &BodyFrame<T>,
+            before: &HoverState<T>,
+            to: &HoverSample<T, B>,
+        ) -> Result<Self::Prepared, Error>;
+
+        /// [`predict`](StateModel::predict) with `from`'s body frame already computed and the state of
+        /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
+        fn predict_in<A>(
+            &self,
+            from: &HoverSample<T, A>,
+            from_frame: &BodyFrame<T>,
+            before: &HoverState<T>,
+            next: &mut HoverState<T>,
+        ) -> Result<(), Error>;
+
+        /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
+        /// estimator may keep what the update from `from` at the next step reuses (the local
+        /// one keeps its firing strengths and block products, see
+        /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)). `shared`: firing
+        /// strengths another model computed at `from`, which this one takes if they are its own
+        /// (see [`SharedStrengths`]).
+        fn predict_keep<A>(
+            &mut self,
+            from: &HoverSample<T, A>,
+            from_frame: &BodyFrame<T>,
+            before: &HoverState<T>,
+            shared: Option<&SharedStrengths<'_, T>>,
+            next: &mut HoverState<T>,
+        ) -> Result<(), Error>;
+
+        /// The firing strengths the last [`predict_keep`](Self::predict_keep) used, to offer to
+        /// the other models, if the estimator kept them (and has not learnt since).
+        fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+            None
+        }
+    }
+}
+
 /// What a [`HoverIdentifier`](crate::hover::HoverIdentifier) needs of each of its models.
 ///
 /// Learning is split in two so that the identifier can check all four models before it
 /// changes any: [`prepare`](Self::prepare) checks and computes, [`apply`](Self::apply) writes.
-pub trait StateModel<T: Real> {
-    /// A checked update, ready to apply.
-    type Prepared;
+///
+/// Sealed: only the crate's [`VelocityModel`] and [`RateModel`] implement it (an identifier's
+/// speed-ups, such as sharing firing strengths between the models, live in its sealed part).
+pub trait StateModel<T: Real>: sealed::StepParts<T> {
     /// What [`export`](Self::export) returns and [`import`](Self::import) takes.
     type State: Copy;
 
@@ -101,53 +162,6 @@ pub trait StateModel<T: Real> {
     /// Calls `f` with a view of each of the model's RLS estimators, in export order (see
     /// [`TsEstimator::for_each_rls`](crate::learning::TsEstimator::for_each_rls)).
     fn for_each_rls(&self, f: &mut dyn FnMut(crate::rls::RlsView<'_, T>));
-
-    /// [`prepare`](Self::prepare) with `from`'s body frame already computed (the identifier
-    /// keeps it from the previous step) and the state `[v^s, ω]` of the sample before `from`
-    /// (`before`; `from`'s own state when there is none), for the structures that read it
-    /// ([`RateStructure::Flight`]'s second-order term, [`VelocityStructure::Flight`]'s drag).
-    /// [`prepare`](Self::prepare) is this with `before = from.state()`.
-    ///
-    /// Only `from_frame` is read of `from`'s attitude, and nothing of `to`'s: the attitude may
-    /// come in any form.
-    fn prepare_in<A, B>(
-        &self,
-        from: &HoverSample<T, A>,
-        from_frame: &BodyFrame<T>,
-        before: &HoverState<T>,
-        to: &HoverSample<T, B>,
-    ) -> Result<Self::Prepared, Error>;
-
-    /// [`predict`](Self::predict) with `from`'s body frame already computed and the state of
-    /// the sample before `from` (see [`prepare_in`](Self::prepare_in)).
-    fn predict_in<A>(
-        &self,
-        from: &HoverSample<T, A>,
-        from_frame: &BodyFrame<T>,
-        before: &HoverState<T>,
-        next: &mut HoverState<T>,
-    ) -> Result<(), Error>;
-
-    /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
-    /// estimator may keep what the update from `from` at the next step reuses (the local
-    /// one keeps its firing strengths and block products, see
-    /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)). `shared`: firing
-    /// strengths another model computed at `from`, which this one takes if they are its own
-    /// (see [`SharedStrengths`]).
-    fn predict_keep<A>(
-        &mut self,
-        from: &HoverSample<T, A>,
-        from_frame: &BodyFrame<T>,
-        before: &HoverState<T>,
-        shared: Option<&SharedStrengths<'_, T>>,
-        next: &mut HoverState<T>,
-    ) -> Result<(), Error>;
-
-    /// The firing strengths the last [`predict_keep`](Self::predict_keep) used, to offer to
-    /// the other models, if the estimator kept them (and has not learnt since).
-    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
-        None
-    }
 
     /// Replaces the parameters by their estimates with the gyro noise's bias removed, for a
     /// model whose terms the noise biases (see [`RateModel::compensate`]); `gyro_noise`: the
@@ -248,8 +262,8 @@ impl Premise {
 }
 
 /// The strengths the estimator `ts` of a model on `premise` kept from its last prediction,
-/// offered to the other models ([`StateModel::kept_strengths`]).
-fn kept_by<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>(
+/// offered to the other models (`StepParts::kept_strengths`).
+pub(crate) fn kept_by<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>(
     premise: Premise,
     ts: &E,
 ) -> Option<SharedStrengths<'_, T>> {

@@ -8,6 +8,7 @@ use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
 
+use super::sealed::{self, StepParts};
 use super::{check_terms, kept_by, BodyFrame, Premise, SharedStrengths, StateModel};
 
 /// Which body rate an angular model predicts.
@@ -69,7 +70,7 @@ pub enum RateStructure {
     ///   fast states that no sample records (flapping settles in ≈ 3 samples at 50 Hz), so
     ///   the rate responds as a second-order system at the sample scale; an ARX model of order
     ///   2 in the rate (as PX4's `ArxRls<2, …>`) accounts for them. It makes the rate models
-    ///   need the sample before: see [`StateModel::prepare_in`].
+    ///   need the sample before, which the identifier keeps.
     ///
     /// `D = 7`.
     Flight,
@@ -327,15 +328,10 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
     }
 }
 
-impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> sealed::StepParts<T>
     for RateModel<T, R, D, E>
 {
     type Prepared = Prepared<T, R, D, 1>;
-    type State = E::State;
-
-    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
-        self.prepare_in(from, &self.frame_for(from), &from.state(), to)
-    }
 
     fn prepare_in<A, B>(
         &self,
@@ -380,6 +376,20 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         let [increment] = self.ts.predict_keep(&premise, strengths, &terms)?;
         self.advance(from, increment, next);
         Ok(())
+    }
+
+    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+        kept_by(self.premise, &self.ts)
+    }
+}
+
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+    for RateModel<T, R, D, E>
+{
+    type State = E::State;
+
+    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
+        self.prepare_in(from, &self.frame_for(from), &from.state(), to)
     }
 
     fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {

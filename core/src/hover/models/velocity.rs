@@ -8,6 +8,7 @@ use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
 
+use super::sealed::{self, StepParts};
 use super::{check_terms, kept_by, BodyFrame, Premise, SharedStrengths, StateModel};
 
 /// Consequent structure of the translational model.
@@ -58,8 +59,8 @@ pub enum VelocityStructure {
     ///   collective, so the bias is a few per cent of it, and `d_u` stays on `v_y(k)` (keeping
     ///   `v_y(k−1)` as well would take the paper fuzzy identifier over its 11 KiB). Some of that
     ///   bias reaches the horizontal drag through the parameters the three outputs share
-    ///   (`core/tests/extended.rs` measures both). The structure needs the sample before: see
-    ///   [`StateModel::prepare_in`].
+    ///   (`core/tests/extended.rs` measures both). The structure needs the sample before, which the
+    ///   identifier keeps.
     ///
     /// `D = 8`.
     Flight,
@@ -258,15 +259,10 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>>
     }
 }
 
-impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> sealed::StepParts<T>
     for VelocityModel<T, R, D, E>
 {
     type Prepared = Prepared<T, R, D, 3>;
-    type State = E::State;
-
-    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
-        self.prepare_in(from, &BodyFrame::of(&from.attitude), &from.state(), to)
-    }
 
     fn prepare_in<A, B>(
         &self,
@@ -313,6 +309,20 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         let increments = self.ts.predict_keep(&premise, strengths, &terms)?;
         next.velocity = advance(from, &increments);
         Ok(())
+    }
+
+    fn kept_strengths(&self) -> Option<SharedStrengths<'_, T>> {
+        kept_by(self.premise, &self.ts)
+    }
+}
+
+impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateModel<T>
+    for VelocityModel<T, R, D, E>
+{
+    type State = E::State;
+
+    fn prepare(&self, from: &HoverSample<T>, to: &HoverSample<T>) -> Result<Self::Prepared, Error> {
+        self.prepare_in(from, &BodyFrame::of(&from.attitude), &from.state(), to)
     }
 
     fn apply(&mut self, prepared: &Self::Prepared, innovation: &mut HoverState<T>) {
