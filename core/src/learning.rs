@@ -3,10 +3,10 @@
 //! share, so that the helicopter models are written once over either.
 
 use crate::error::Error;
-use crate::local::{LocalState, LocalTsRls};
 use crate::rls::{Compensation, RegressorNoise, RlsConfig, RlsState, RlsView};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
+use crate::ts::local::{LocalState, LocalTsRls};
 use crate::ts::{Prepared, Scaling, TsRls};
 
 /// How the consequent parameters θ of a TS model are learnt.
@@ -92,7 +92,7 @@ pub trait TsEstimator<T: Real, const V: usize, const R: usize, const D: usize>: 
     /// globally; one per rule, rule 0 first, when learnt locally).
     fn for_each_rls(&self, f: &mut dyn FnMut(RlsView<'_, T>));
     /// Replaces each rule's θ by its estimate with the bias of a noisy regressor removed
-    /// ([`Rls::bias_compensated`](crate::Rls::bias_compensated)), keeping the covariances:
+    /// ([`Rls::bias_compensated`](crate::rls::Rls::bias_compensated)), keeping the covariances:
     /// the parameters for a simulation. Global learning compensates a one-rule model only
     /// (with more rules its regressor `Δ ⊗ ξ` mixes the rules' terms).
     fn compensate(&mut self, noise: &RegressorNoise<T, D>) -> Compensation;

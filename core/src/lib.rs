@@ -36,18 +36,13 @@ pub mod snapshot;
 pub mod sweep;
 pub mod ts;
 
+// The integrator's set: the identifiers, what they take and give, and the errors. Building
+// blocks (RLS, TS estimators, rule bases, membership functions) stay in their modules.
 pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
-    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
-    FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
-    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier, RateNoise,
+    flight_sets, Attitude, Controls, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier,
+    ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier,
+    HoverSample, HoverState, Observer, PaperFuzzyIdentifier, PaperLocalIdentifier,
+    PaperPlainIdentifier, Quaternion, RateNoise, RotationMatrix, StepOutput,
 };
-pub use learning::{Learning, TsEstimator};
-pub use membership::MembershipFunction;
-pub use rls::{
-    Algorithm, Compensation, NotCompensated, RegressorNoise, Rls, RlsConfig, RlsState, RlsView,
-};
-pub use rule_base::RuleBase;
 pub use scalar::Real;
-pub use ts::local::{self, LocalTsRls};
-pub use ts::{Scaling, TsRls};

@@ -8,9 +8,10 @@ use rotorid::hover::{HoverSample, RegressorScaling, StateModel};
 use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
 use rotorid::rls::RlsConfig;
 use rotorid::rule_base::RuleBase;
+use rotorid::ts::{Scaling, TsRls};
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedPlainIdentifier, FlightPlainIdentifier, HoverConfig,
-    PaperFuzzyIdentifier, Scaling, TsRls,
+    PaperFuzzyIdentifier,
 };
 
 fn config(scaling: RegressorScaling) -> HoverConfig<f64> {
@@ -132,9 +133,9 @@ fn extended_structures_recover_the_parameters_that_generated_their_data() {
     // gains, collective torque, small couplings, trims and side force; the same value for
     // every rule.
     fn truth_state<const N: usize, const NP: usize>(
-        mut st: rotorid::RlsState<f64, N, NP>,
+        mut st: rotorid::rls::RlsState<f64, N, NP>,
         per_term: &[f64],
-    ) -> rotorid::RlsState<f64, N, NP> {
+    ) -> rotorid::rls::RlsState<f64, N, NP> {
         let r = N / per_term.len();
         for (j, t) in st.theta.iter_mut().enumerate() {
             *t = per_term[j / r];

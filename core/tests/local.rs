@@ -4,13 +4,15 @@ use rotorid::hover::{
     LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel, VelocityStructure,
 };
 use rotorid::learning::Learning;
-use rotorid::local::MIN_LOCAL_STRENGTH;
 use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
 use rotorid::rls::{Algorithm, RlsConfig};
 use rotorid::rule_base::PremiseSets;
+use rotorid::rule_base::RuleBase;
+use rotorid::ts::local::LocalTsRls;
+use rotorid::ts::local::MIN_LOCAL_STRENGTH;
+use rotorid::ts::Scaling;
 use rotorid::{
-    Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, HoverIdentifier, LocalTsRls,
-    Real, RuleBase, Scaling,
+    Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, HoverIdentifier, Real,
 };
 
 /// A manoeuvring sample sequence: forward flight up to ~12 m/s and back, rates and sticks

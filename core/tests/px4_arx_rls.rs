@@ -9,7 +9,7 @@
 //! `P(0) = 10⁴ I`, covariance form, and starts learning once its buffers hold `N + M + D + 1`
 //! samples.
 
-use rotorid::{Rls, RlsConfig};
+use rotorid::rls::{Rls, RlsConfig};
 
 /// PX4's `ArxRls<N, M, D>` as a thin wrapper over rotorid's `Rls` (`P = N + M + 1`
 /// parameters, `PP` packed covariance entries).

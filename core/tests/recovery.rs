@@ -3,7 +3,8 @@ use rotorid::hover::{Attitude, Controls, HoverSample};
 use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
 use rotorid::rls::RlsConfig;
 use rotorid::rule_base::RuleBase;
-use rotorid::{HoverConfig, PaperPlainIdentifier, TsRls};
+use rotorid::ts::TsRls;
+use rotorid::{HoverConfig, PaperPlainIdentifier};
 
 struct Rng(u64);
 impl Rng {

@@ -3,7 +3,8 @@
 
 use rotorid::hover::{flight_sets, Attitude, Controls, HoverSample, ModelId};
 use rotorid::rls::{Algorithm, RlsState};
-use rotorid::{FlightIdentifier, HoverConfig, PaperFuzzyIdentifier, Rls, RlsConfig};
+use rotorid::rls::{Rls, RlsConfig};
+use rotorid::{FlightIdentifier, HoverConfig, PaperFuzzyIdentifier};
 
 fn sample(k: u64) -> HoverSample<f32> {
     let t = k as f32 * 0.02;

@@ -251,7 +251,7 @@ pub struct ModelParams {
 /// Params of the four models (velocity, q̂, r̂, p̂).
 pub type Params = [ModelParams; 4];
 
-fn summary<const N: usize, const NP: usize>(r: &rotorid::Rls<f32, N, NP>) -> ModelParams {
+fn summary<const N: usize, const NP: usize>(r: &rotorid::rls::Rls<f32, N, NP>) -> ModelParams {
     ModelParams {
         theta: r.parameters().to_vec(),
         diagonal: r.covariance_diagonal().to_vec(),

@@ -3,11 +3,8 @@
 
 use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
 use rotorid::membership::MembershipFunction;
-use rotorid::{
-    Compensation, Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
-    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
-    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
-};
+use rotorid::{Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier};
+use rotorid::rls::Compensation;
 
 use rotorid::record;
 use rotorid::snapshot::{Snapshot, SnapshotState};

@@ -16,7 +16,7 @@ pub enum RegressorScaling {
     /// The nominal miniature-helicopter scales of
     /// [`VelocityStructure::helicopter_scaling`] and [`RateStructure::helicopter_scaling`]:
     /// a well-conditioned problem in f32. Parameters are still reported in physical units by
-    /// [`TsRls::physical_parameter`](crate::TsRls::physical_parameter).
+    /// [`TsRls::physical_parameter`](crate::ts::TsRls::physical_parameter).
     Helicopter,
 }
 

@@ -362,7 +362,7 @@ where
     /// `sample_period_us ± period_tolerance_us` (after a gap, call [`resume`](Self::resume)),
     /// or an update beyond the estimator's numeric limits. Every error is found before anything
     /// is written, whatever state an [`import`](Self::import) brought in: an import bounds
-    /// every parameter and every factor entry (see [`Rls::check_import`](crate::Rls::check_import)),
+    /// every parameter and every factor entry (see [`Rls::check_import`](crate::rls::Rls::check_import)),
     /// the covariance form skips (and counts) an update that would take a parameter past them,
     /// the U-D form's gain is bounded by `√P_ii/(2√λ)` (`P_ii` stays within its import bound),
     /// and with such parameters a prediction from a sample that passed [`SampleLimits`] is
@@ -509,7 +509,7 @@ where
     /// Replaces the rate models' parameters by their estimates with the bias of the gyros'
     /// white noise removed (bias-compensated least squares, see
     /// [`RateModel::gyro_noise`](super::RateModel::gyro_noise) and
-    /// [`Rls::bias_compensated`](crate::Rls::bias_compensated)): the model to *simulate*
+    /// [`Rls::bias_compensated`](crate::rls::Rls::bias_compensated)): the model to *simulate*
     /// (free-run) with. The least-squares parameters the identifier learns are the better
     /// one-step predictor from noisy measurements, so compensate a copy and keep learning on
     /// the original (learning on from compensated parameters returns to least squares).

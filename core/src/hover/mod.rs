@@ -1,4 +1,4 @@
-//! The paper's helicopter identifiers (Section 5) as thin layers over [`TsRls`](crate::TsRls).
+//! The paper's helicopter identifiers (Section 5) as thin layers over [`TsRls`](crate::ts::TsRls).
 //!
 //! Everything here is in the paper's axes and units (see [`crate::frames`] to convert from
 //! NED / forward-right-down with rad/s):

@@ -10,9 +10,9 @@ use crate::hover::models::{
 };
 use crate::hover::table3;
 use crate::learning::TsEstimator;
-use crate::local::LocalTsRls;
 use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
+use crate::ts::local::LocalTsRls;
 use crate::ts::TsRls;
 
 /// The paper's Takagi-Sugeno identifier with Table 3's sets: 27 + 18 + 9 + 9 rules,
@@ -56,7 +56,7 @@ pub type ExtendedPlainIdentifier<T> = HoverIdentifier<
 >;
 
 /// The paper's structure and Table 3's sets, every rule learnt locally (see
-/// [`crate::local`]): 27 + 18 + 9 + 9 rules of 2 terms.
+/// [`crate::ts::local`]): 27 + 18 + 9 + 9 rules of 2 terms.
 pub type PaperLocalIdentifier<T> = HoverIdentifier<
     T,
     LocalVelocityModel<T, 27, 2, 3>,

@@ -71,7 +71,7 @@ pub enum NotCompensated {
     Numerical,
 }
 
-/// What compensating a model's rules did ([`TsEstimator::compensate`](crate::TsEstimator::compensate)).
+/// What compensating a model's rules did ([`TsEstimator::compensate`](crate::learning::TsEstimator::compensate)).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Compensation {

@@ -33,7 +33,7 @@
 //! estimator is unchanged, bit for bit.
 //!
 //! ```
-//! use rotorid::{Rls, RlsConfig};
+//! use rotorid::rls::{Rls, RlsConfig};
 //!
 //! // y = 2 x₁ − 0.5 x₂, learnt from four measurements (U-D form, P(0) = 10⁶ I).
 //! let mut rls = Rls::<f32, 2, 3>::new(RlsConfig::default())?;
@@ -138,7 +138,7 @@ pub struct Rls<T, const N: usize, const NP: usize> {
 
 /// What an estimator learns, without its settings: θ, the packed covariance (or U-D) factor
 /// and the counters. [`Rls`] is one of these with its [`RlsConfig`]; a
-/// [`LocalTsRls`](crate::local::LocalTsRls) keeps one per rule beside the one config that
+/// [`LocalTsRls`](crate::ts::local::LocalTsRls) keeps one per rule beside the one config that
 /// every rule shares (a copy per rule would cost 16 B each in f32). Every operation takes the
 /// settings it runs with.
 #[derive(Clone, Debug, PartialEq)]

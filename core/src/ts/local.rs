@@ -218,7 +218,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
     }
 
     /// Checks and computes an update of M outputs without changing anything (see
-    /// [`TsRls::prepare`](crate::TsRls::prepare); the rows are the same). Also checks every
+    /// [`TsRls::prepare`](crate::ts::TsRls::prepare); the rows are the same). Also checks every
     /// rule's own prior innovation on the first row against [`TARGET_LIMIT`].
     pub fn prepare<const M: usize>(
         &self,

@@ -75,7 +75,7 @@ impl<T: Real, const D: usize> Default for Scaling<T, D> {
 }
 
 /// The constructors of a TS estimator, written once for [`TsRls`] and
-/// [`LocalTsRls`](crate::LocalTsRls): `with_scaling` (documented by the caller); its checks,
+/// [`LocalTsRls`](crate::ts::local::LocalTsRls): `with_scaling` (documented by the caller); its checks,
 /// `check_new`, which refuses wrong sizes (`dimensions_wrong`), then the scales, then the
 /// settings of the RLS estimator type it is built from (`estimator`), in that order; and
 /// `with_scaling_unchecked`, whose body (`unchecked`, over the parameter names it gives) is

@@ -153,7 +153,7 @@ pub trait HasDiagnostics<T> {
 }
 
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> HasDiagnostics<T>
-    for rotorid::hover::VelocityModel<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
+    for rotorid::hover::VelocityModel<T, R, D, rotorid::ts::TsRls<T, 3, R, D, N, NP>>
 {
     fn theta(&self) -> Vec<T> {
         self.ts().rls().parameters().to_vec()
@@ -164,7 +164,7 @@ impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> H
 }
 
 impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize> HasDiagnostics<T>
-    for rotorid::hover::RateModel<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
+    for rotorid::hover::RateModel<T, R, D, rotorid::ts::TsRls<T, 3, R, D, N, NP>>
 {
     fn theta(&self) -> Vec<T> {
         self.ts().rls().parameters().to_vec()
@@ -178,7 +178,7 @@ macro_rules! local_diagnostics {
     ($model:ident) => {
         /// Rule by rule: θ_1, θ_2, … and their covariance diagonals.
         impl<T: Real, const R: usize, const D: usize, const DP: usize> HasDiagnostics<T>
-            for rotorid::hover::$model<T, R, D, rotorid::LocalTsRls<T, 3, R, D, DP>>
+            for rotorid::hover::$model<T, R, D, rotorid::ts::local::LocalTsRls<T, 3, R, D, DP>>
         {
             fn theta(&self) -> Vec<T> {
                 (0..R)

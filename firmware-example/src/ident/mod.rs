@@ -32,7 +32,7 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::{flight_sets, HoverIdentifier, StateModel};
 use rotorid::sweep::SweepSchedule;
-use rotorid::RlsView;
+use rotorid::rls::RlsView;
 use rotorid::{
     Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,

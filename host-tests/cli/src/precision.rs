@@ -37,7 +37,7 @@ pub trait PhysicalParameters {
 macro_rules! physical_impl {
     ($model:ident) => {
         impl<T: Real, const R: usize, const D: usize, const N: usize, const NP: usize>
-            PhysicalParameters for $model<T, R, D, rotorid::TsRls<T, 3, R, D, N, NP>>
+            PhysicalParameters for $model<T, R, D, rotorid::ts::TsRls<T, 3, R, D, N, NP>>
         {
             fn physical(&self) -> Vec<(f64, f64)> {
                 let ts = self.ts();
@@ -63,7 +63,7 @@ macro_rules! physical_local_impl {
     ($model:ident) => {
         /// Rule by rule (θ_1's terms, then θ_2's, …).
         impl<T: Real, const R: usize, const D: usize, const DP: usize> PhysicalParameters
-            for $model<T, R, D, rotorid::LocalTsRls<T, 3, R, D, DP>>
+            for $model<T, R, D, rotorid::ts::local::LocalTsRls<T, 3, R, D, DP>>
         {
             fn physical(&self) -> Vec<(f64, f64)> {
                 let ts = self.ts();

@@ -44,7 +44,7 @@ fn main() {
     let config = match form.as_str() {
         "ud" => HoverConfig::default(),
         "paper" => HoverConfig {
-            rls: rotorid::RlsConfig::paper(1e6),
+            rls: rotorid::rls::RlsConfig::paper(1e6),
             ..HoverConfig::default()
         },
         _ => {

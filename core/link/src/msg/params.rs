@@ -188,7 +188,7 @@ mod tests {
 
     #[test]
     fn raw_state_reads_back_exactly() {
-        use rotorid::{Rls, RlsConfig};
+        use rotorid::rls::{Rls, RlsConfig};
         let mut a = Rls::<f32, 2, 3>::new(RlsConfig::default()).unwrap();
         for k in 0..77 {
             let x = k as f32;

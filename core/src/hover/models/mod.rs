@@ -105,7 +105,7 @@ pub(crate) mod sealed {
         /// [`predict_in`](Self::predict_in) from `&mut self`: the same prediction, and the
         /// estimator may keep what the update from `from` at the next step reuses (the local
         /// one keeps its firing strengths and block products, see
-        /// [`LocalTsRls::predict_keep`](crate::LocalTsRls::predict_keep)). `shared`: firing
+        /// [`LocalTsRls::predict_keep`](crate::ts::local::LocalTsRls::predict_keep)). `shared`: firing
         /// strengths another model computed at `from`, which this one takes if they are its own
         /// (see [`SharedStrengths`]).
         fn predict_keep<A>(
