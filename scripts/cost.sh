@@ -177,8 +177,14 @@ compensation are linked too) and take the attitude form as a value (so the Euler
 \`sincosf\` and its \`f64\` soft-float are linked too); and with the lean calls
 (\`rotorid_lean_init_<kind>\` + \`rotorid_lean_step_<kind>\`: that kind's init and
 quaternion step only; \`docs/c-interface.md\`, "Flash budget"). Target of issue 28: the flight
-kind within 20 KiB (20 480 B): **not met** (the parts table says where the rest goes: the core's
-step and constructor, most of them). The Rust equivalent is below.
+kind within 20 KiB (20 480 B): **not met**, with the lean calls either. The lean firmware links
+no trigonometry and no \`f64\` code; what remains is the core's own code (the largest functions
+below): the step (inlined into \`rotorid_lean_step_flight\`, so the parts table counts it for the
+C interface) and the constructor (inlined into \`Build::build_into\`), and the local estimator's
+update, preparation and prediction, each instantiated twice (for the translational model's
+dimensions and for the rate models'); then the memory routines (\`compiler_builtins\`'
+\`memcpy\`/\`memset\`, which a firmware with a C library of its own may share). The Rust
+equivalent is below.
 
 ${footprint}
 

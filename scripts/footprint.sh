@@ -44,7 +44,7 @@ for v in generic lean; do arm-none-eabi-nm -S -C "$out/$v-flight.elf" >"$out/$v.
 python3 - "$out/generic.nm" "$out/lean.nm" <<'PY'
 import sys, collections
 parts = [
-    ("the C interface: its calls (generic: with every method of the kind, through the view's vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
+    ("the C interface's calls, with the core code inlined into them (the step, the constructor; generic: every method of the kind, through the view's vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
     ("libm: sincosf and its argument reductions (Euler angles)", ("libm::math::sincos", "libm::math::rem_pio2", "libm::math::k_", "libm::math::generic::trig")),
     ("libm: the rest (expf, sqrtf)", ("libm",)),
     ("f64 soft-float (sincosf computes in f64; f64 constants converted at init)", ("__aeabi_d", "__muldf3", "__adddf3", "__aeabi_f2d", "__truncdfsf2", "__extendsfdf2", "compiler_builtins::float")),
@@ -71,6 +71,13 @@ for label, n in lean.items():
     if label not in generic:
         print(f"| {label} | 0 | {n} |")
 PY
+echo
+echo "The lean flight firmware's largest functions (\`arm-none-eabi-nm -S --size-sort\`; a generic core function is listed once per instantiation, its type parameters elided by the demangler):"
+echo
+echo "| function | flash (B) |"
+echo "|---|---:|"
+arm-none-eabi-nm -S -C --size-sort "$out/lean-flight.elf" | awk '$3 ~ /^[tTrRW]$/' | tail -16 | sort -k2,2r |
+  while read -r _ size _ name; do echo "| \`${name}\` | $((16#$size)) |"; done
 echo
 echo "The Rust equivalent (\`firmware-example\`'s \`minimal\` binary: \`FlightIdentifier::flight\` and \`step\` with quaternions, fat LTO, \`cortex-m-rt\`), at three opt-levels:"
 echo
