@@ -4,8 +4,8 @@
 //! changed.
 //!
 //! (That the generic calls refuse a storage only a lean init prepared cannot be shown here:
-//! every test shares one process, whose other tests run the full init of every kind. The
-//! minimal C firmware of `scripts/footprint.sh` runs the lean path alone.)
+//! every test shares one process, whose other tests run the full init of every kind.
+//! `c/lean_only.c`, a program of its own, shows it: `tests/c_interface.rs` runs it.)
 
 extern crate std;
 

@@ -430,6 +430,26 @@ fn c_host_program_matches_rotorid_bit_for_bit() {
         .arg(dir.join("example.o")));
 }
 
+/// A program that calls only the lean init of its kind: the generic calls refuse its storage
+/// until a full init of the kind runs (`c/lean_only.c` checks each call).
+#[test]
+fn the_generic_calls_refuse_a_lean_only_storage() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-lean-only");
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    let lib = static_library(None);
+    let program = dir.join("lean_only");
+    run(Command::new("cc")
+        .args(C_FLAGS)
+        .arg("-I")
+        .arg(crate_dir().join("include"))
+        .arg(crate_dir().join("c/lean_only.c"))
+        .arg(&lib)
+        .arg("-o")
+        .arg(&program));
+    run(&mut Command::new(&program));
+}
+
 /// The C program of docs/c-interface.md ("The program written from this page"), cut out of
 /// the page as it stands.
 fn documented_program(dir: &Path) -> PathBuf {
