@@ -112,9 +112,9 @@ unsafe fn resume<I: Lean>(
 
 /// Prepares an identifier of `ROTORID_KIND_FLIGHT` for the lean calls: the arguments, codes
 /// and storage of `rotorid_init_flight` (the same layout and header), without the view the
-/// generic calls need (which links every method of the kind): the generic calls refuse a
-/// storage only this init prepared (`NOT_INITIALISED`). Every `rotorid_lean_init_<kind>`
-/// is this call for its kind.
+/// generic calls need (which links every method of the kind): the generic calls refuse its
+/// storage (`NOT_INITIALISED`) unless a full init of the kind also ran in the program. Every
+/// `rotorid_lean_init_<kind>` is this call for its kind.
 ///
 /// # Safety
 /// As `rotorid_init`.
