@@ -15,6 +15,9 @@
 //! that each kind's init fills with that kind's view function: a firmware that calls only
 //! `rotorid_init_flight` still links the flight identifier's code only, and a kind whose init
 //! never ran in this program is refused (`NOT_INITIALISED`) even with an intact header.
+//! That view is a table of every method of the kind, so the full init links them all; the
+//! lean init (`crate::lean`) registers none and only sets the kind's bit in `PREPARED`, which
+//! the lean calls check instead (with the same header checks, `typed_mut`).
 //!
 //! Because the storage holds no address (neither into itself nor into code), a prepared
 //! storage may be moved (copied to another suitably aligned place, the old copy no longer
