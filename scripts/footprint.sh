@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Prints (markdown) the flash an autopilot pays for rotorid: a minimal C firmware per kind
-# (core/ffi/c/minimal/main.c: rotorid_init_<kind> + rotorid_step, attitude as a quaternion,
-# arm-none-eabi-gcc -Os, gc-sections, the thumbv7em library at its release profile, libgcc),
-# each run under QEMU mps2-an386 (it must exit 0: every step accepted), the flight kind's
-# flash by part, and the Rust equivalent (firmware-example's `minimal` binary) at three
-# opt-levels. `scripts/cost.sh` embeds it in docs/cost.md.
+# (core/ffi/c/minimal/main.c: init + step, attitude as a quaternion, arm-none-eabi-gcc -Os,
+# gc-sections, the thumbv7em library at its release profile, libgcc) built twice, with the
+# generic calls (rotorid_init_<kind> + rotorid_step) and with the lean calls
+# (rotorid_lean_init_<kind> + rotorid_lean_step_<kind>), each run under QEMU mps2-an386 (it
+# must exit 0: every step accepted); the flight kind's flash by part for both; and the Rust
+# equivalent (firmware-example's `minimal` binary) at three opt-levels. `scripts/cost.sh`
+# embeds it in docs/cost.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
@@ -13,48 +15,69 @@ trap 'rm -rf "$out"' EXIT
 cargo build -q --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
 lib=core/ffi/target/thumbv7em-none-eabihf/release/librotorid_ffi.a
 kinds="flight flight_plain paper_fuzzy paper_plain extended_fuzzy extended_plain paper_local extended_local"
-echo "| kind (\`rotorid_init_<kind>\` + \`rotorid_step\`) | flash (text, B) | RAM (bss, B) | runs |"
-echo "|---|---:|---:|:-:|"
-for k in $kinds; do
-  upper=$(tr '[:lower:]' '[:upper:]' <<<"$k")
+# firmware NAME INIT STEP STORAGE: builds $out/NAME.elf, prints "text bss", fails unless it runs.
+firmware() {
   arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
     -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
-    -DROTORID_MINIMAL_INIT="rotorid_init_$k" -DROTORID_MINIMAL_STORAGE="ROTORID_${upper}_STORAGE_SIZE" \
+    -DROTORID_MINIMAL_INIT="$2" -DROTORID_MINIMAL_STEP="$3" -DROTORID_MINIMAL_STORAGE="$4" \
     -I core/ffi/include core/ffi/c/minimal/main.c "$lib" -lgcc -Wl,--gc-sections -z noexecstack \
-    -L . -T core/ffi/c/firmware/link.ld -o "$out/$k.elf"
-  read -r text _ bss _ < <(arm-none-eabi-size "$out/$k.elf" | tail -1)
-  runs=no
-  if timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
-    -serial none -semihosting-config enable=on,target=native -kernel "$out/$k.elf"; then runs=yes; fi
-  echo "| \`$k\` | $text | $bss | $runs |"
-  [ "$runs" = yes ] || { echo "the minimal firmware of $k failed under QEMU" >&2; exit 1; }
+    -L . -T core/ffi/c/firmware/link.ld -o "$out/$1.elf"
+  if ! timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
+    -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf"; then
+    echo "the minimal firmware $1 ($2 + $3) failed under QEMU" >&2
+    exit 1
+  fi
+  arm-none-eabi-size "$out/$1.elf" | tail -1 | awk '{print $1, $3}'
+}
+echo "| kind | generic calls: flash (text, B) | lean calls: flash (text, B) | saved (B) | RAM (bss, B) | runs |"
+echo "|---|---:|---:|---:|---:|:-:|"
+for k in $kinds; do
+  storage="ROTORID_$(tr '[:lower:]' '[:upper:]' <<<"$k")_STORAGE_SIZE"
+  read -r generic _ < <(firmware "generic-$k" "rotorid_init_$k" rotorid_step "$storage")
+  read -r lean bss < <(firmware "lean-$k" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage")
+  echo "| \`$k\` | $generic | $lean | $((generic - lean)) | $bss | yes |"
 done
 echo
 echo "Flash of the flight kind's minimal C firmware by part (\`arm-none-eabi-nm -S\`, text and read-only data):"
 echo
-arm-none-eabi-nm -S -C "$out/flight.elf" | python3 -c '
+for v in generic lean; do arm-none-eabi-nm -S -C "$out/$v-flight.elf" >"$out/$v.nm"; done
+python3 - "$out/generic.nm" "$out/lean.nm" <<'PY'
 import sys, collections
 parts = [
-    ("the C interface: the calls and every method of the kind (vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
+    ("the C interface's calls, with the core code inlined into them (the step, the constructor; generic: every method of the kind, through the view's vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
     ("libm: sincosf and its argument reductions (Euler angles)", ("libm::math::sincos", "libm::math::rem_pio2", "libm::math::k_", "libm::math::generic::trig")),
     ("libm: the rest (expf, sqrtf)", ("libm",)),
-    ("f64 soft-float (sincosf computes in f64)", ("__aeabi_d", "__muldf3", "__adddf3", "__aeabi_f2d", "__truncdfsf2", "__extendsfdf2", "compiler_builtins::float")),
+    ("f64 soft-float (sincosf computes in f64; f64 constants converted at init)", ("__aeabi_d", "__muldf3", "__adddf3", "__aeabi_f2d", "__truncdfsf2", "__extendsfdf2", "compiler_builtins::float")),
     ("memory routines (memcpy, memset)", ("memcpy", "memset", "memclr", "__aeabi_mem", "compiler_builtins::mem")),
     ("the rotorid core", ("rotorid::", "<rotorid::")),
 ]
-tot = collections.Counter()
-for line in sys.stdin:
-    p = line.split(None, 3)
-    if len(p) < 4 or p[2] not in "tTrRW":
-        continue
-    name = p[3].strip()
-    label = next((l for l, prefixes in parts if name.startswith(prefixes)), "start-up, vector table, main")
-    tot[label] += int(p[1], 16)
-print("| part | flash (B) |")
-print("|---|---:|")
-for label, n in tot.most_common():
-    print(f"| {label} | {n} |")
-'
+other = "start-up, vector table, main"
+def tally(path):
+    tot = collections.Counter()
+    for line in open(path):
+        p = line.split(None, 3)
+        if len(p) < 4 or p[2] not in "tTrRW":
+            continue
+        name = p[3].strip()
+        label = next((l for l, prefixes in parts if name.startswith(prefixes)), other)
+        tot[label] += int(p[1], 16)
+    return tot
+generic, lean = tally(sys.argv[1]), tally(sys.argv[2])
+print("| part | generic calls (B) | lean calls (B) |")
+print("|---|---:|---:|")
+for label, n in generic.most_common():
+    print(f"| {label} | {n} | {lean[label]} |")
+for label, n in lean.items():
+    if label not in generic:
+        print(f"| {label} | 0 | {n} |")
+PY
+echo
+echo "The lean flight firmware's largest functions (\`arm-none-eabi-nm -S --size-sort\`; a generic core function is listed once per instantiation, its type parameters elided by the demangler):"
+echo
+echo "| function | flash (B) |"
+echo "|---|---:|"
+arm-none-eabi-nm -S -C --size-sort "$out/lean-flight.elf" | awk '$3 ~ /^[tTrRW]$/' | tail -16 | sort -k2,2r |
+  while read -r _ size _ name; do echo "| \`${name}\` | $((16#$size)) |"; done
 echo
 echo "The Rust equivalent (\`firmware-example\`'s \`minimal\` binary: \`FlightIdentifier::flight\` and \`step\` with quaternions, fat LTO, \`cortex-m-rt\`), at three opt-levels:"
 echo

@@ -131,6 +131,60 @@ static int32_t init_kind(uint32_t kind, const rotorid_config_t *config, rotorid_
 #endif
 }
 
+#ifndef DRIVE_ONLY_INIT
+/* The lean calls of each kind (index: the kind code). */
+typedef int32_t (*lean_init_t)(void *, size_t, const rotorid_config_t *,
+                               const rotorid_flight_sets_t *, rotorid_ident_t **,
+                               rotorid_error_t *);
+typedef int32_t (*lean_step_t)(rotorid_ident_t *, const rotorid_sample_t *,
+                               rotorid_step_output_t *, rotorid_error_t *);
+typedef int32_t (*lean_resume_t)(rotorid_ident_t *, const rotorid_sample_t *, rotorid_state_t *,
+                                 rotorid_error_t *);
+#define LEAN(kind) {rotorid_lean_init_##kind, rotorid_lean_step_##kind, rotorid_lean_resume_##kind}
+static const struct {
+    lean_init_t init;
+    lean_step_t step;
+    lean_resume_t resume;
+} LEAN_CALLS[9] = {
+    {NULL, NULL, NULL},    LEAN(flight),         LEAN(flight_plain), LEAN(paper_fuzzy),
+    LEAN(paper_plain),     LEAN(extended_fuzzy), LEAN(extended_plain), LEAN(paper_local),
+    LEAN(extended_local),
+};
+
+/* The lean calls over the flight with the attitude as a quaternion (FLIGHT_Q), from a fresh
+ * lean init: the hash of every output, as the main run hashes rotorid_step's. */
+static int drive_lean(uint32_t kind, const rotorid_config_t *config, fnv_t *lean,
+                      drive_emit_t emit) {
+    rotorid_ident_t *id = NULL;
+    int32_t rc = LEAN_CALLS[kind].init(storage, sizeof storage, config, NULL, &id, &err);
+    CHECK(rc == ROTORID_OK && id != NULL, "lean init", rc);
+    for (size_t k = 0; k < FLIGHT_LEN; k++) {
+        rotorid_sample_t s;
+        rotorid_step_output_t out;
+        sample_at(k, &s);
+        rc = LEAN_CALLS[kind].step(id, &s, &out, &err);
+        CHECK(rc == ROTORID_E_OUT_OF_RANGE && err.quantity == ROTORID_QUANTITY_ATTITUDE_FORM,
+              "lean step refuses Euler angles", rc);
+        s.attitude_form = ROTORID_ATTITUDE_QUATERNION;
+        memcpy(s.q, FLIGHT_Q[k], sizeof s.q);
+        rc = LEAN_CALLS[kind].step(id, &s, &out, &err);
+        fnv_u32(lean, (uint32_t)rc);
+        if (rc == ROTORID_OK) {
+            fnv_state(lean, &out.prediction);
+            fnv_state(lean, &out.innovation);
+            fnv_u32(lean, out.has_innovation);
+        } else {
+            rotorid_state_t p;
+            CHECK(rc == ROTORID_E_TIME_STEP && err.dt_us > err.max_us, "lean step", rc);
+            rc = LEAN_CALLS[kind].resume(id, &s, &p, &err);
+            CHECK(rc == ROTORID_OK, "lean resume", rc);
+            fnv_state(lean, &p);
+        }
+    }
+    return 0;
+}
+#endif
+
 static int drive_kind(uint32_t kind, drive_emit_t emit) {
     rotorid_config_t config;
     rotorid_ident_t *id = NULL;
@@ -248,6 +302,11 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
         CHECK(rc == ROTORID_OK && n == n2 && reset.h == fresh_hash.h, "reset equals fresh", rc);
     }
 
+#ifndef DRIVE_ONLY_INIT
+    fnv_t lean = {0xcbf29ce484222325ull};
+    if (drive_lean(kind, &config, &lean, emit)) return 1;
+#endif
+
     char line[160];
     char *at = put_str(line, "kind ");
     at = put_dec(at, kind);
@@ -259,6 +318,10 @@ static int drive_kind(uint32_t kind, drive_emit_t emit) {
     at = put_dec(at, compensated);
     at = put_str(at, " simulate ");
     at = put_hex(at, sim.h, 16);
+#ifndef DRIVE_ONLY_INIT
+    at = put_str(at, " lean ");
+    at = put_hex(at, lean.h, 16);
+#endif
     at = put_str(at, "\n");
     *at = 0;
     emit(line);

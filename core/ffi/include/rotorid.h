@@ -1129,6 +1129,297 @@ size_t rotorid_record_size(uint32_t kind);
 size_t rotorid_export_size(uint32_t kind);
 
 /**
+ * Prepares an identifier of `ROTORID_KIND_FLIGHT` for the lean calls: the arguments, codes
+ * and storage of `rotorid_init_flight` (the same layout and header), without the view the
+ * generic calls need (which links every method of the kind): the generic calls refuse its
+ * storage (`NOT_INITIALISED`) unless a full init of the kind also ran in the program. Every
+ * `rotorid_lean_init_<kind>` is this call for its kind.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_flight(void *storage,
+                                 size_t storage_size,
+                                 const rotorid_config_t *config,
+                                 const rotorid_flight_sets_t *sets,
+                                 rotorid_ident_t **handle,
+                                 rotorid_error_t *error);
+
+/**
+ * `rotorid_step` on an identifier of `ROTORID_KIND_FLIGHT`, the attitude as a quaternion:
+ * links this kind's step only, and no trigonometry. The arguments, codes and bits of
+ * `rotorid_step` with `ROTORID_ATTITUDE_QUATERNION`, and two more refusals: a handle of
+ * another kind (intact header) is KIND, a sample of another `attitude_form` is
+ * OUT_OF_RANGE (quantity `ROTORID_QUANTITY_ATTITUDE_FORM`). Takes a storage from either
+ * init of its kind. Every `rotorid_lean_step_<kind>` is this call for its kind.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_flight(rotorid_ident_t *h,
+                                 const rotorid_sample_t *sample,
+                                 rotorid_step_output_t *out,
+                                 rotorid_error_t *error);
+
+/**
+ * `rotorid_resume` on an identifier of `ROTORID_KIND_FLIGHT`, the attitude as a
+ * quaternion (after TIME_STEP, as `rotorid_resume`); the same refusals as
+ * `rotorid_lean_step_flight`. Every `rotorid_lean_resume_<kind>` is this call for its kind.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_flight(rotorid_ident_t *h,
+                                   const rotorid_sample_t *sample,
+                                   rotorid_state_t *out,
+                                   rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_FLIGHT_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_flight_plain(void *storage,
+                                       size_t storage_size,
+                                       const rotorid_config_t *config,
+                                       const rotorid_flight_sets_t *sets,
+                                       rotorid_ident_t **handle,
+                                       rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_FLIGHT_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_flight_plain(rotorid_ident_t *h,
+                                       const rotorid_sample_t *sample,
+                                       rotorid_step_output_t *out,
+                                       rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_FLIGHT_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_flight_plain(rotorid_ident_t *h,
+                                         const rotorid_sample_t *sample,
+                                         rotorid_state_t *out,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_PAPER_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_paper_fuzzy(void *storage,
+                                      size_t storage_size,
+                                      const rotorid_config_t *config,
+                                      const rotorid_flight_sets_t *sets,
+                                      rotorid_ident_t **handle,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_PAPER_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_paper_fuzzy(rotorid_ident_t *h,
+                                      const rotorid_sample_t *sample,
+                                      rotorid_step_output_t *out,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_PAPER_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_paper_fuzzy(rotorid_ident_t *h,
+                                        const rotorid_sample_t *sample,
+                                        rotorid_state_t *out,
+                                        rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_PAPER_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_paper_plain(void *storage,
+                                      size_t storage_size,
+                                      const rotorid_config_t *config,
+                                      const rotorid_flight_sets_t *sets,
+                                      rotorid_ident_t **handle,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_PAPER_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_paper_plain(rotorid_ident_t *h,
+                                      const rotorid_sample_t *sample,
+                                      rotorid_step_output_t *out,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_PAPER_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_paper_plain(rotorid_ident_t *h,
+                                        const rotorid_sample_t *sample,
+                                        rotorid_state_t *out,
+                                        rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_EXTENDED_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_extended_fuzzy(void *storage,
+                                         size_t storage_size,
+                                         const rotorid_config_t *config,
+                                         const rotorid_flight_sets_t *sets,
+                                         rotorid_ident_t **handle,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_EXTENDED_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_extended_fuzzy(rotorid_ident_t *h,
+                                         const rotorid_sample_t *sample,
+                                         rotorid_step_output_t *out,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_EXTENDED_FUZZY`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_extended_fuzzy(rotorid_ident_t *h,
+                                           const rotorid_sample_t *sample,
+                                           rotorid_state_t *out,
+                                           rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_EXTENDED_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_extended_plain(void *storage,
+                                         size_t storage_size,
+                                         const rotorid_config_t *config,
+                                         const rotorid_flight_sets_t *sets,
+                                         rotorid_ident_t **handle,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_EXTENDED_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_extended_plain(rotorid_ident_t *h,
+                                         const rotorid_sample_t *sample,
+                                         rotorid_step_output_t *out,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_EXTENDED_PLAIN`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_extended_plain(rotorid_ident_t *h,
+                                           const rotorid_sample_t *sample,
+                                           rotorid_state_t *out,
+                                           rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_PAPER_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_paper_local(void *storage,
+                                      size_t storage_size,
+                                      const rotorid_config_t *config,
+                                      const rotorid_flight_sets_t *sets,
+                                      rotorid_ident_t **handle,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_PAPER_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_paper_local(rotorid_ident_t *h,
+                                      const rotorid_sample_t *sample,
+                                      rotorid_step_output_t *out,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_PAPER_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_paper_local(rotorid_ident_t *h,
+                                        const rotorid_sample_t *sample,
+                                        rotorid_state_t *out,
+                                        rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_init_flight` for `ROTORID_KIND_EXTENDED_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_init`.
+ */
+int32_t rotorid_lean_init_extended_local(void *storage,
+                                         size_t storage_size,
+                                         const rotorid_config_t *config,
+                                         const rotorid_flight_sets_t *sets,
+                                         rotorid_ident_t **handle,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_step_flight` for `ROTORID_KIND_EXTENDED_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_step`.
+ */
+int32_t rotorid_lean_step_extended_local(rotorid_ident_t *h,
+                                         const rotorid_sample_t *sample,
+                                         rotorid_step_output_t *out,
+                                         rotorid_error_t *error);
+
+/**
+ * `rotorid_lean_resume_flight` for `ROTORID_KIND_EXTENDED_LOCAL`.
+ *
+ * # Safety
+ * As `rotorid_resume`.
+ */
+int32_t rotorid_lean_resume_extended_local(rotorid_ident_t *h,
+                                           const rotorid_sample_t *sample,
+                                           rotorid_state_t *out,
+                                           rotorid_error_t *error);
+
+/**
  * Writes the persistence record of the identifier into `buffer` and says where it goes:
  * `info->slot`, the slot that does not hold the newest valid record (A when neither does),
  * with `info->sequence` the sequence number after it, and `info->length` bytes

@@ -15,6 +15,9 @@
 //! that each kind's init fills with that kind's view function: a firmware that calls only
 //! `rotorid_init_flight` still links the flight identifier's code only, and a kind whose init
 //! never ran in this program is refused (`NOT_INITIALISED`) even with an intact header.
+//! That view is a table of every method of the kind, so the full init links them all; the
+//! lean init (`crate::lean`) registers none and only sets the kind's bit in `PREPARED`, which
+//! the lean calls check instead (with the same header checks, `typed_mut`).
 //!
 //! Because the storage holds no address (neither into itself nor into code), a prepared
 //! storage may be moved (copied to another suitably aligned place, the old copy no longer
@@ -24,7 +27,7 @@
 //! `rotorid_export` / `rotorid_import`.
 
 use core::mem::{align_of, size_of};
-use core::sync::atomic::{AtomicPtr, Ordering};
+use core::sync::atomic::{AtomicPtr, AtomicU32, Ordering};
 
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
@@ -100,6 +103,10 @@ const fn storage_size_of(kind: u32) -> usize {
 static VIEWS: [AtomicPtr<()>; KINDS + 1] =
     [const { AtomicPtr::new(core::ptr::null_mut()) }; KINDS + 1];
 
+/// Bit `k` set: an init of kind `k` (full or lean) ran in this program. The lean calls check
+/// it instead of [`VIEWS`], which only the full init fills (filling it links every method).
+static PREPARED: AtomicU32 = AtomicU32::new(0);
+
 /// What each kind stores in [`VIEWS`].
 type ViewFn = unsafe fn(*mut Header) -> *mut dyn Ident;
 
@@ -138,14 +145,35 @@ fn registered(kind: u32) -> Option<ViewFn> {
     Some(unsafe { core::mem::transmute::<*mut (), ViewFn>(p) })
 }
 
-/// Prepares an identifier of type `I` (kind code `kind`) in `storage`: the body of every
-/// `rotorid_init*`. Never inlined: each kind gets its own stack frame, so that a call pays for
-/// its own kind only.
+/// Prepares an identifier of type `I` (kind code `kind`) in `storage` for every call: the
+/// body of every full `rotorid_init*` ([`prepare`], then the kind's view for the generic
+/// calls, which links every method of the kind).
+///
+/// # Safety
+/// As `rotorid_init`.
+unsafe fn init<I: Build + Ident + 'static>(
+    kind: u32,
+    storage: *mut core::ffi::c_void,
+    storage_size: usize,
+    config: *const rotorid_config_t,
+    sets: *const rotorid_flight_sets_t,
+    handle: *mut *mut rotorid_ident_t,
+) -> Result<(), rotorid_error_t> {
+    // SAFETY: the caller's contract.
+    unsafe { prepare::<I>(kind, storage, storage_size, config, sets, handle) }?;
+    register::<I>(kind);
+    Ok(())
+}
+
+/// Prepares an identifier of type `I` (kind code `kind`) in `storage` for the lean calls of
+/// its kind (`crate::lean`): the storage and its header, and the kind's bit in [`PREPARED`];
+/// no view (that is [`init`]'s). Never inlined: each kind gets its own stack frame, so that a
+/// call pays for its own kind only.
 ///
 /// # Safety
 /// As `rotorid_init`.
 #[inline(never)]
-unsafe fn init<I: Build + Ident + 'static>(
+pub(crate) unsafe fn prepare<I: Build + 'static>(
     kind: u32,
     storage: *mut core::ffi::c_void,
     storage_size: usize,
@@ -192,7 +220,7 @@ unsafe fn init<I: Build + Ident + 'static>(
         });
         handle.write(storage.cast());
     }
-    register::<I>(kind);
+    PREPARED.fetch_or(1u32.checked_shl(kind).unwrap_or(0), Ordering::Release);
     Ok(())
 }
 
@@ -472,6 +500,50 @@ unsafe fn header(h: *const rotorid_ident_t) -> Result<(u32, ViewFn), rotorid_err
     }
     let view = registered(hd.kind).ok_or(not_initialised)?;
     Ok((hd.kind, view))
+}
+
+/// The identifier of type `I` (kind code `kind`) behind a handle, for the lean calls: the
+/// same checks as [`header`] (a damaged header is `NOT_INITIALISED`), then the kind must be
+/// `kind` (an intact header of another kind: `ROTORID_E_KIND`) and an init of it must have run
+/// in this program (full or lean). Reads no table of code pointers: nothing but the caller's
+/// own call is linked.
+///
+/// # Safety
+/// As [`header`], `I` is kind `kind`'s type, and nothing else refers to the storage during
+/// the call.
+// Used by `crate::lean` only; the fuzz crate `host-tests/fuzz/ffi` compiles this module
+// without it (until it adds `lean.rs` to its modules).
+#[allow(dead_code)]
+pub(crate) unsafe fn typed_mut<'a, I>(
+    h: *mut rotorid_ident_t,
+    kind: u32,
+) -> Result<&'a mut I, rotorid_error_t> {
+    let p = h.cast::<Header>();
+    if p.is_null() {
+        return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+    }
+    if !(p as usize).is_multiple_of(ROTORID_STORAGE_ALIGN) {
+        return Err(rotorid_error_t::interface(ROTORID_E_MISALIGNED));
+    }
+    // SAFETY: aligned and readable by the caller's contract; checked before it is trusted.
+    let hd = unsafe { p.read() };
+    let intact = hd.magic == MAGIC
+        && hd.layout == ROTORID_LAYOUT_VERSION
+        && hd.kind != 0
+        && hd.check == CHECKS.get(hd.kind as usize).copied().unwrap_or(0);
+    if !intact {
+        return Err(rotorid_error_t::interface(ROTORID_E_NOT_INITIALISED));
+    }
+    if hd.kind != kind {
+        return Err(rotorid_error_t::interface(ROTORID_E_KIND));
+    }
+    let prepared = PREPARED.load(Ordering::Acquire);
+    if prepared & 1u32.checked_shl(kind).unwrap_or(0) == 0 {
+        return Err(rotorid_error_t::interface(ROTORID_E_NOT_INITIALISED));
+    }
+    // SAFETY: the header is intact and of kind `kind`, whose init ran in this program: the
+    // storage is a `Slot<I>` (the caller's contract ties `I` to `kind`).
+    Ok(unsafe { &mut *core::ptr::addr_of_mut!((*p.cast::<Slot<I>>()).ident) })
 }
 
 /// The kind code behind a handle, after checking it.

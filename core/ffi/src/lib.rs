@@ -46,6 +46,9 @@ pub mod export;
 pub mod frames;
 pub mod handle;
 pub mod kinds;
+pub mod lean;
+#[cfg(test)]
+mod lean_tests;
 #[cfg(test)]
 mod promises;
 mod ptr;
@@ -63,6 +66,7 @@ pub use export::*;
 pub use frames::*;
 pub use handle::*;
 pub use kinds::*;
+pub use lean::*;
 pub use record::*;
 pub use sweep::*;
 pub use types::*;

@@ -62,14 +62,34 @@ impl TryFrom<&rotorid_sample_t> for HoverSample<f32, AnyAttitude<f32>> {
             }
             _ => return Err(rotorid_error_t::attitude_form()),
         };
-        let [col, ped, lon, lat] = s.controls;
-        Ok(HoverSample {
-            time_us: s.time_us,
-            attitude,
-            velocity: s.velocity,
-            rates: s.rates,
-            controls: Controls { col, ped, lon, lat },
-        })
+        Ok(with_attitude(s, attitude))
+    }
+}
+
+impl TryFrom<&rotorid_sample_t> for HoverSample<f32, Quaternion<f32>> {
+    type Error = rotorid_error_t;
+
+    /// The sample of a lean call (`crate::lean`), whose step has no Euler path: OUT_OF_RANGE
+    /// (quantity `ROTORID_QUANTITY_ATTITUDE_FORM`) unless `attitude_form` is
+    /// `ROTORID_ATTITUDE_QUATERNION`.
+    fn try_from(s: &rotorid_sample_t) -> Result<Self, rotorid_error_t> {
+        if s.attitude_form != ROTORID_ATTITUDE_QUATERNION {
+            return Err(rotorid_error_t::attitude_form());
+        }
+        let [w, x, y, z] = s.q;
+        Ok(with_attitude(s, Quaternion { w, x, y, z }))
+    }
+}
+
+/// The core's sample from a C sample and its attitude in the form a call takes.
+fn with_attitude<A>(s: &rotorid_sample_t, attitude: A) -> HoverSample<f32, A> {
+    let [col, ped, lon, lat] = s.controls;
+    HoverSample {
+        time_us: s.time_us,
+        attitude,
+        velocity: s.velocity,
+        rates: s.rates,
+        controls: Controls { col, ped, lon, lat },
     }
 }
 

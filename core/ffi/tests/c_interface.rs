@@ -12,7 +12,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use rotorid::hover::StateModel;
+use rotorid::hover::{Attitude, Quaternion, StateModel};
 use rotorid::rls::{Algorithm, RlsState};
 use rotorid::sweep::SweepSchedule;
 use rotorid::{
@@ -114,8 +114,32 @@ fn flight_header(flight: &[HoverSample<f32>]) -> String {
             .collect();
         writeln!(h, "  {{{}}},", words.join(", ")).unwrap();
     }
+    h.push_str("};\n/* the attitude as a quaternion [w x y z] (quaternion_of), IEEE-754 bits */\n");
+    h.push_str("static const uint32_t FLIGHT_Q[FLIGHT_LEN][4] = {\n");
+    for s in flight {
+        let q = quaternion_of(&s.attitude).to_array();
+        let words: Vec<String> = q
+            .iter()
+            .map(|x| format!("0x{:08x}u", x.to_bits()))
+            .collect();
+        writeln!(h, "  {{{}}},", words.join(", ")).unwrap();
+    }
     h.push_str("};\n");
     h
+}
+
+/// The unit quaternion of ZYX Euler angles (body FRD to NED), in f32: the lean calls' input.
+/// Any unit quaternion would do: the C side reads its bits from `flight.h`.
+fn quaternion_of(a: &Attitude<f32>) -> Quaternion<f32> {
+    let (sr, cr) = (0.5 * a.roll).sin_cos();
+    let (sp, cp) = (0.5 * a.pitch).sin_cos();
+    let (sy, cy) = (0.5 * a.yaw).sin_cos();
+    Quaternion {
+        w: cr * cp * cy + sr * sp * sy,
+        x: sr * cp * cy - cr * sp * sy,
+        y: cr * sp * cy + sr * cp * sy,
+        z: cr * cp * sy - sr * sp * cy,
+    }
 }
 
 struct Fnv(u64);
@@ -190,7 +214,34 @@ where
     Q: StateModel<f32, State: ExportBytes>,
     R: StateModel<f32, State: ExportBytes>,
     P: StateModel<f32, State: ExportBytes>,
+    HoverIdentifier<f32, V, Q, R, P>: Clone,
 {
+    // The lean calls' run (`rotorid_lean_step_<kind>`, full builds only): a fresh identifier
+    // over the flight with the attitude as a quaternion, resumed after the gap.
+    let mut lean_id = id.clone();
+    let mut lean = Fnv(FNV_START);
+    for (k, s) in flight.iter().enumerate() {
+        let s = HoverSample {
+            time_us: s.time_us,
+            attitude: quaternion_of(&s.attitude),
+            velocity: s.velocity,
+            rates: s.rates,
+            controls: s.controls,
+        };
+        match lean_id.step(&s) {
+            Ok(o) => {
+                lean.u32(0);
+                lean.state(&o.prediction);
+                lean.state(&o.innovation.unwrap_or_default());
+                lean.u32(u32::from(o.innovation.is_some()));
+            }
+            Err(Error::TimeStep { .. }) => {
+                lean.u32(3); // ROTORID_E_TIME_STEP
+                lean.state(&lean_id.resume(&s).unwrap());
+            }
+            Err(e) => panic!("kind {kind}, lean, sample {k}: {e}"),
+        }
+    }
     let mut steps = Fnv(FNV_START);
     for (k, s) in flight.iter().enumerate() {
         if k == flight.len() / 2 {
@@ -229,8 +280,9 @@ where
     let compensated = id.compensate(&[0.3; 3]).unwrap().compensated;
     simulate.state(&id.predict(flight.last().unwrap()).unwrap());
     format!(
-        "kind {kind} steps {:016x} export {:016x} compensated {compensated} simulate {:016x}\n",
-        steps.0, export.0, simulate.0
+        "kind {kind} steps {:016x} export {:016x} compensated {compensated} simulate {:016x} \
+         lean {:016x}\n",
+        steps.0, export.0, simulate.0, lean.0
     )
 }
 
@@ -376,6 +428,26 @@ fn c_host_program_matches_rotorid_bit_for_bit() {
         .arg(c.join("example.c"))
         .arg("-o")
         .arg(dir.join("example.o")));
+}
+
+/// A program that calls only the lean init of its kind: the generic calls refuse its storage
+/// until a full init of the kind runs (`c/lean_only.c` checks each call).
+#[test]
+fn the_generic_calls_refuse_a_lean_only_storage() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-lean-only");
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    let lib = static_library(None);
+    let program = dir.join("lean_only");
+    run(Command::new("cc")
+        .args(C_FLAGS)
+        .arg("-I")
+        .arg(crate_dir().join("include"))
+        .arg(crate_dir().join("c/lean_only.c"))
+        .arg(&lib)
+        .arg("-o")
+        .arg(&program));
+    run(&mut Command::new(&program));
 }
 
 /// The C program of docs/c-interface.md ("The program written from this page"), cut out of
@@ -534,9 +606,10 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         assert_eq!(stack.len(), 1, "no stack report in {report}");
         (stack.concat(), rest.join("\n") + "\n")
     };
-    // Text of a firmware without the flight's data (each sample: its time and 13 floats).
-    let flight_bytes = FLIGHT_LEN * (8 + 13 * 4);
-    let text_of = |elf: &Path| -> usize {
+    // Text of a firmware without the flight's data (each sample: its time and 13 floats; the
+    // full build also links the quaternions of its lean run, 4 floats a sample).
+    let text_of = |elf: &Path, quaternions: bool| -> usize {
+        let flight_bytes = FLIGHT_LEN * (8 + 13 * 4 + if quaternions { 4 * 4 } else { 0 });
         let size = run(Command::new("arm-none-eabi-size").arg(elf));
         let text: usize = size
             .lines()
@@ -550,7 +623,7 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
     let (stack, report) = split(&firmware("-DDRIVE_SMALL", &elf));
     eprintln!(
         "C firmware, all kinds but EXTENDED_FUZZY: {stack} bytes, text {} bytes",
-        text_of(&elf)
+        text_of(&elf, true)
     );
     assert_eq!(report, expected(&flight, true));
     // No panic path: the library's every function in the firmware, by the static call graph.
@@ -580,7 +653,7 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
         let (stack, report) = split(&firmware(&only, &elf));
         assert!(report.contains(&format!("kind {kind} steps")), "{report}");
-        let text = text_of(&elf);
+        let text = text_of(&elf, false);
         eprintln!("C firmware, rotorid_init_{name} only: {stack} bytes, text {text} bytes");
         let stack: usize = stack
             .split_whitespace()

@@ -16,6 +16,9 @@ use crate::rule_base::{PremiseSets, RuleBase};
 use crate::scalar::Real;
 
 /// Left shoulder, centre and right shoulder from `(c^l, σ^l), (c, σ), (c^r, σ^r)`.
+// Inlined: each call's literals become f32 constants (no f64 conversion code in an f32
+// firmware; the same values).
+#[inline(always)]
 pub fn three_sets<T: Real>(
     left: (f64, f64),
     centre: (f64, f64),

@@ -1,24 +1,24 @@
 /*
- * The smallest useful C firmware: one identifier of the kind ROTORID_MINIMAL_KIND (default the
- * flight default), initialised and stepped through samples; nothing else of the library. Its
- * flash is what an autopilot pays for rotorid (scripts/footprint.sh measures it per kind;
- * docs/cost.md). Startup and vector table are here so that nothing but the C compiler, the
- * library and libgcc is linked. It runs under QEMU mps2-an386 too (exit through semihosting).
+ * The smallest useful C firmware: one identifier, initialised and stepped through samples with
+ * the attitude as a quaternion; nothing else of the library. Its flash is what an autopilot
+ * pays for rotorid (scripts/footprint.sh measures it per kind; docs/cost.md). By default the
+ * lean calls of the flight default (rotorid_lean_init_flight + rotorid_lean_step_flight: that
+ * kind's init and step only, no trigonometry); ROTORID_MINIMAL_INIT / _STEP / _STORAGE choose
+ * another kind or the generic calls (rotorid_init_<kind> + rotorid_step). Startup and vector
+ * table are here so that nothing but the C compiler, the library and libgcc is linked. It
+ * runs under QEMU mps2-an386 too (exit through semihosting; 0 when every step is accepted).
  */
 #include <stdint.h>
 
 #include "rotorid.h"
 
 #ifndef ROTORID_MINIMAL_INIT
-#define ROTORID_MINIMAL_INIT rotorid_init_flight
+#define ROTORID_MINIMAL_INIT rotorid_lean_init_flight
+#define ROTORID_MINIMAL_STEP rotorid_lean_step_flight
 #define ROTORID_MINIMAL_STORAGE ROTORID_FLIGHT_STORAGE_SIZE
 #endif
 #ifndef ROTORID_MINIMAL_STEP
 #define ROTORID_MINIMAL_STEP rotorid_step
-#endif
-/* 1: the attitude as a quaternion (no trigonometry), 0: Euler angles. */
-#ifndef ROTORID_MINIMAL_QUATERNION
-#define ROTORID_MINIMAL_QUATERNION 1
 #endif
 
 extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss;
@@ -69,10 +69,8 @@ int main(void) {
         s.controls[0] = 0.5f;
         s.rates[0] = (float)(k % 7u) - 3.0f;
         s.velocity[0] = 0.1f * t;
-#if ROTORID_MINIMAL_QUATERNION
         s.attitude_form = ROTORID_ATTITUDE_QUATERNION;
         s.q[0] = 1.0f;
-#endif
         ok &= ROTORID_MINIMAL_STEP(id, &s, &out, 0) == ROTORID_OK;
     }
     return ok ? 0 : 1;

@@ -91,15 +91,19 @@ impl RateStructure {
     /// collective 0.5, constants 1, speeds 5 m/s (the yaw model's `|v|` of
     /// [`Flight`](Self::Flight) too), rate increments 1 deg/s; target `Δω` 1 deg/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self, axis: RateAxis) -> Scaling<T, D> {
-        let nominal: &[f64] = match (self, axis) {
-            (Self::Paper, _) => &[100.0, 0.05],
-            (Self::Extended, _) => &[100.0, 0.05, 10.0, 0.5, 1.0],
-            (Self::Flight, RateAxis::Yaw) => &[5.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
-            (Self::Flight, _) => &[100.0, 0.05, 10.0, 0.5, 1.0, 5.0, 1.0],
+        // Each literal converted where it stands (a constant for f32: no f64 conversion code
+        // in an f32 firmware); the tail of a shorter structure is 1, as `terms` starts.
+        let l = T::lit;
+        let one = T::one();
+        let nominal: [T; 7] = match (self, axis) {
+            (Self::Paper, _) => [l(100.0), l(0.05), one, one, one, one, one],
+            (Self::Extended, _) => [l(100.0), l(0.05), l(10.0), l(0.5), one, one, one],
+            (Self::Flight, RateAxis::Yaw) => [l(5.0), l(0.05), l(10.0), l(0.5), one, l(5.0), one],
+            (Self::Flight, _) => [l(100.0), l(0.05), l(10.0), l(0.5), one, l(5.0), one],
         };
         let mut terms = [T::one(); D];
-        for (t, &n) in terms.iter_mut().zip(nominal) {
-            *t = T::lit(n);
+        for (t, &n) in terms.iter_mut().zip(&nominal) {
+            *t = n;
         }
         Scaling {
             terms,

@@ -80,14 +80,17 @@ impl VelocityStructure {
     /// `e·u_col` 0.5, constants and axes 1 (the flight structure's `R e2` of `α0` too),
     /// velocities 1 m/s, `u_ped` terms 0.3; target `Δv` 0.05 m/s per step.
     pub fn helicopter_scaling<T: Real, const D: usize>(self) -> Scaling<T, D> {
-        let nominal: &[f64] = match self {
-            Self::Paper => &[0.5, 1.0],
-            Self::Extended => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3],
-            Self::Flight => &[0.5, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3, 1.0],
+        // Each literal converted where it stands (a constant for f32: no f64 conversion code
+        // in an f32 firmware); the tail of a shorter structure is 1, as `terms` starts.
+        let one = T::one();
+        let (half, u_ped) = (T::lit(0.5), T::lit(0.3));
+        let nominal: [T; 8] = match self {
+            Self::Paper => [half, one, one, one, one, one, one, one],
+            Self::Extended | Self::Flight => [half, one, one, one, one, one, u_ped, one],
         };
         let mut terms = [T::one(); D];
-        for (t, &n) in terms.iter_mut().zip(nominal) {
-            *t = T::lit(n);
+        for (t, &n) in terms.iter_mut().zip(&nominal) {
+            *t = n;
         }
         Scaling {
             terms,
