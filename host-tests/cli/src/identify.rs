@@ -1,6 +1,7 @@
 //! `rotorid identify` as a library call: read the logs, split off the verification data,
-//! evaluate every identifier variant of the catalogue, give the verdict and the derivatives, and (optionally)
-//! write metrics.json, params-*.json and the figures.
+//! evaluate every identifier variant of a catalogue (the product's, or a study's with
+//! [`identify_with`]), give the verdict and the derivatives, and (optionally) write
+//! metrics.json, params-*.json and the figures.
 //!
 //! The command-line tool and the Python package both call [`identify`]; what the tool prints
 //! goes through a [`Progress`] (stderr notes, stdout text, the progress bar), so that a caller
