@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 output="${1:-docs/real-logs.md}"
 cargo build -q --release -p rotorid-cli
-bin="$PWD/target/release/rotorid"
+bin="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 logs=(host-tests/cli/data/logs/real/*.ulg host-tests/cli/data/logs/esc_status_log.ulg

@@ -5,7 +5,7 @@
 # four Table 2 sweeps, 255 s) and a verification flight (seed 2, 300 s), once with realistic
 # sensors (noise, turbulence), once with three times the noise and once clean, and the envelope flights (seeds 1 and 2), then the
 # hover and envelope pairs again on the second plant (`--plant flybarless600`); runs
-# `rotorid identify` on each pair and writes the document from the metrics files.
+# `rotorid-lab identify` on each pair and writes the document from the metrics files.
 # Deterministic: same seeds, same bits.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,8 +22,11 @@ if command -v fc-list >/dev/null 2>&1 && [ -z "$(fc-list 2>/dev/null | head -1)"
 fi
 
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
-cargo build -q --release -p rotorid-cli --bin rotorid
+# The product's `rotorid` flies the flights; the studies' `rotorid-lab` identifies with the
+# full catalogue (the ablations too, which the document's tables read) and writes the document.
+cargo build -q --release -p rotorid-cli --bin rotorid -p rotorid-lab --bin rotorid-lab
 bin="$CARGO_TARGET_DIR/release/rotorid"
+lab="$CARGO_TARGET_DIR/release/rotorid-lab"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -67,7 +70,7 @@ for plant in xcell60 $second; do
     while IFS='|' read -r label train verify extra; do
       out=conditions/$plant-$kind-$(echo "$label" | tr -c 'a-z0-9' '-')
       # shellcheck disable=SC2086 # $extra: identify's options, word-split on purpose
-      "$bin" identify --train "$train" --verify "$verify" --out "$out" --no-plots $extra >/dev/null
+      "$lab" identify --train "$train" --verify "$verify" --out "$out" --no-plots $extra >/dev/null
       conditions+=(--condition "$group|$label|$out/metrics.json")
       if [ "$kind|$train|$extra" = "hover|${hover[0]}|" ]; then as_flown=$out; fi
     done <<EOF
@@ -84,7 +87,7 @@ EOF
   for seed in 3 4 5; do
     "$bin" simulate "${p[@]}" --kind verification --seed $seed --duration 300 -o $plant-verify-$seed.csv
     out=conditions/$plant-seed-$seed
-    "$bin" identify --train "${hover[0]}" --verify $plant-verify-$seed.csv --out $out --no-plots >/dev/null
+    "$lab" identify --train "${hover[0]}" --verify $plant-verify-$seed.csv --out $out --no-plots >/dev/null
     conditions+=(--condition "$title, hover pair, other verification flights|verification seed $seed|$out/metrics.json")
   done
 done
@@ -102,7 +105,7 @@ done
 while IFS='|' read -r label train verify extra; do
   out=conditions/v2-$train-$verify-$(echo "$extra" | tr -c 'a-z0-9' '-')
   # shellcheck disable=SC2086 # $extra: identify's options, word-split on purpose
-  "$bin" identify --train v2-ident-$train.csv --verify v2-verify-$verify.csv --out "$out" \
+  "$lab" identify --train v2-ident-$train.csv --verify v2-verify-$verify.csv --out "$out" \
     --no-plots $extra >/dev/null
   conditions+=(--condition "$group|$label|$out/metrics.json")
 done <<EOF
@@ -114,21 +117,21 @@ still air, no sensor noise|c|c
 EOF
 
 mkdir -p "$root/docs/figures"
-"$bin" identify --full --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
-"$bin" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
+"$lab" identify --full --train ident.csv --verify verify.csv --out "$root/docs/figures" --plot-span 120
+"$lab" identify --train ident-clean.csv --verify verify-clean.csv --out clean --no-plots
 mkdir -p "$root/docs/figures/noisy"
-"$bin" identify --train ident-noisy.csv --verify verify-noisy.csv --out "$root/docs/figures/noisy" \
+"$lab" identify --train ident-noisy.csv --verify verify-noisy.csv --out "$root/docs/figures/noisy" \
   --no-plots
 mkdir -p "$root/docs/figures/envelope"
-"$bin" identify --train envelope.csv --verify envelope-verify.csv --out "$root/docs/figures/envelope" \
+"$lab" identify --train envelope.csv --verify envelope-verify.csv --out "$root/docs/figures/envelope" \
   --plot-span 60
 mkdir -p "$root/docs/figures/$second" "$root/docs/figures/$second/envelope"
-"$bin" identify --train second-ident.csv --verify second-verify.csv --out "$root/docs/figures/$second" \
+"$lab" identify --train second-ident.csv --verify second-verify.csv --out "$root/docs/figures/$second" \
   --no-plots
-"$bin" identify --train second-envelope.csv --verify second-envelope-verify.csv \
+"$lab" identify --train second-envelope.csv --verify second-envelope-verify.csv \
   --out "$root/docs/figures/$second/envelope" --no-plots
 end=$(date +%s)
-"$bin" report --realistic "$root/docs/figures/metrics.json" --clean clean/metrics.json \
+"$lab" report --realistic "$root/docs/figures/metrics.json" --clean clean/metrics.json \
   --envelope "$root/docs/figures/envelope/metrics.json" \
   --second-plant $second --second-hover "$root/docs/figures/$second/metrics.json" \
   --second-envelope "$root/docs/figures/$second/envelope/metrics.json" \

@@ -3,7 +3,7 @@
 # was not developed on. For each airframe (X-Cell 60, flybarless 600) it flies the airframe
 # itself and PLANTS variations of it (`rotorid simulate --plant-variation SEED`, seeds
 # 1..PLANTS), each through the hover pair (identification seed 1, verification seed 2, 300 s)
-# and the envelope pair (seeds 1 and 2), runs `rotorid identify` on each pair and writes the
+# and the envelope pair (seeds 1 and 2), runs `rotorid-lab identify` on each pair and writes the
 # tables from the metrics files. Deterministic: same seeds, same bits.
 #
 # Usage: scripts/robustness.sh [PLANTS [OUTPUT]]   (default 12 per airframe, docs/robustness.md;
@@ -15,8 +15,11 @@ plants=${1:-12}
 output=$(realpath -m "${2:-docs/robustness.md}")
 
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
-cargo build -q --release -p rotorid-cli --bin rotorid
+# The product's `rotorid` flies the flights; the studies' `rotorid-lab` identifies with the
+# full catalogue (the ablations too, which the document's tables read) and writes the document.
+cargo build -q --release -p rotorid-cli --bin rotorid -p rotorid-lab --bin rotorid-lab
 bin="$CARGO_TARGET_DIR/release/rotorid"
+lab="$CARGO_TARGET_DIR/release/rotorid-lab"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -34,9 +37,9 @@ fly() {
     "$bin" simulate --plant "$plant" "${v[@]}" --kind verification --seed 2 --duration 300 -o verify.csv
     "$bin" simulate --plant "$plant" "${v[@]}" --kind envelope --seed 1 -o envelope.csv
     "$bin" simulate --plant "$plant" "${v[@]}" --kind envelope-verification --seed 2 -o envelope-verify.csv
-    "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
-    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
-    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured \
+    "$lab" identify --train ident.csv --verify verify.csv --out hover --no-plots
+    "$lab" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+    "$lab" identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured \
       --no-plots --free-run-velocity measured
   ) >"$dir.log" 2>&1
 }
@@ -79,5 +82,5 @@ how="scripts/robustness.sh $plants
   rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured --no-plots --free-run-velocity measured"
 [ -z "$skipped" ] || how+="
 not flown (the simulation failed):$skipped"
-"$bin" robustness-report "${runs[@]}" --how "$how" -o "$output"
+"$lab" robustness-report "${runs[@]}" --how "$how" -o "$output"
 echo "wrote $output"

@@ -1,6 +1,7 @@
 //! `rotorid identify` as a library call: read the logs, split off the verification data,
-//! evaluate every identifier variant, give the verdict and the derivatives, and (optionally)
-//! write metrics.json, params-*.json and the figures.
+//! evaluate every identifier variant of a catalogue (the product's, or a study's with
+//! [`identify_with`]), give the verdict and the derivatives, and (optionally) write
+//! metrics.json, params-*.json and the figures.
 //!
 //! The command-line tool and the Python package both call [`identify`]; what the tool prints
 //! goes through a [`Progress`] (stderr notes, stdout text, the progress bar), so that a caller
@@ -336,13 +337,28 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Identifies hover models from the logs of `args` (what `rotorid identify` does).
+/// Identifies hover models from the logs of `args` with the product's catalogue
+/// ([`experiments::variants`]): what `rotorid identify` does.
 ///
 /// # Errors
 /// [`IdentifyError`]: bad arguments, a log that cannot be imported or split, a failed
 /// evaluation, a file that cannot be written.
 pub fn identify(
     args: &IdentifyArgs,
+    progress: &mut dyn Progress,
+) -> Result<Outcome, IdentifyError> {
+    identify_with(args, &experiments::variants(), progress)
+}
+
+/// [`identify`] with the variants given, in their order (a study's catalogue, such as
+/// `rotorid-lab`'s with the ablations). The verdict picks among those of its candidates
+/// (`verdict::CANDIDATES`) that `variants` holds; Table 4 reads the first two.
+///
+/// # Errors
+/// As [`identify`].
+pub fn identify_with(
+    args: &IdentifyArgs,
+    variants: &[experiments::Variant],
     progress: &mut dyn Progress,
 ) -> Result<Outcome, IdentifyError> {
     let window = args.window;
@@ -452,7 +468,6 @@ pub fn identify(
         progress
             .note("free runs on the measured velocity: the rates run free, the velocities do not");
     }
-    let variants = experiments::variants();
     let total = (n_train + verification.len()) * variants.len();
     progress.start(total as u64);
     let mut results = Vec::new();

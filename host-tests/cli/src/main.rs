@@ -15,17 +15,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
+use rotorid_cli::command_line::{parse_rate, IdentifyOptions, Plant, RateArg};
 use rotorid_cli::error_chain::Chain;
-use rotorid_cli::experiments;
-use rotorid_cli::flight_report::Condition;
-use rotorid_cli::identify::{self, GyroNoise, IdentifyArgs, ObserverGain};
+use rotorid_cli::identify::{self, IdentifyArgs};
 use rotorid_cli::import::{self, ImportError};
 use rotorid_cli::log::{self, LogError};
-use rotorid_cli::report::{Metrics, ReportError};
-use rotorid_cli::results::SecondPlant;
-use rotorid_cli::robustness::PlantRuns;
 use rotorid_cli::simulate;
+use rotorid_cli::terminal::Terminal;
 use rotorid_sim::flights;
 use rotorid_sim::plant::Airframe;
 
@@ -51,26 +47,6 @@ enum Kind {
     Envelope,
     /// The held-out envelope flight: 8 other operating points (200 s); use another seed.
     EnvelopeVerification,
-}
-
-/// Which simulated helicopter (`rotorid_sim::plant::Airframe`).
-#[derive(Clone, Copy, Default, ValueEnum)]
-enum Plant {
-    /// The MIT X-Cell 60 (published parameters).
-    #[default]
-    Xcell60,
-    /// A flybarless 600-class helicopter (Froude-scaled X-Cell with a flybarless stiff-hub
-    /// rotor, higher head speed, larger tail rotor, slimmer canopy).
-    Flybarless600,
-}
-
-impl From<Plant> for Airframe {
-    fn from(p: Plant) -> Self {
-        match p {
-            Plant::Xcell60 => Airframe::XCell60,
-            Plant::Flybarless600 => Airframe::Flybarless600,
-        }
-    }
 }
 
 #[derive(Subcommand)]
@@ -120,68 +96,8 @@ enum Command {
     /// stretches are cut, every usable segment is learnt, and without --verify a part is held
     /// out for verification (--holdout).
     Identify {
-        /// Logs to identify from (as --train).
-        logs: Vec<PathBuf>,
-        /// Training (identification) logs, learnt one after another.
-        #[arg(long, num_args = 1..)]
-        train: Vec<PathBuf>,
-        /// Verification log (θ frozen after training; its longest segment). Without it, part
-        /// of the training data is held out (--holdout).
-        #[arg(long)]
-        verify: Option<PathBuf>,
-        /// Fraction of the data held out for verification when --verify is not given (the
-        /// later part: a whole segment of about that size, else the end of the longest).
-        #[arg(long, default_value_t = 0.3)]
-        holdout: f64,
-        /// Identification rate (Hz): `auto` takes the fastest of 50, 25, 20, 10, 5 Hz that
-        /// every channel of every log is logged at (no invented samples); a number forces it.
-        #[arg(long, default_value = "auto", value_parser = parse_rate)]
-        rate: RateArg,
-        /// Use the logs only from this log time (s, as logged) on; with --to it replaces the
-        /// in-air detector.
-        #[arg(long)]
-        from: Option<f64>,
-        /// Use the logs only up to this log time (s).
-        #[arg(long)]
-        to: Option<f64>,
-        /// Print every variant's tables, the Table 4 analogue and every import note, not only
-        /// the verdict.
-        #[arg(long)]
-        full: bool,
-        /// Directory for metrics.json, params-*.json and the figures.
-        #[arg(long, default_value = "rotorid-out")]
-        out: PathBuf,
-        /// Free-run window (s): the model runs on its own predictions, restarted from the
-        /// measured state at each window.
-        #[arg(long, default_value_t = 2.0)]
-        window: f64,
-        /// Plot only the first seconds of the verification flight (default: all).
-        #[arg(long)]
-        plot_span: Option<f64>,
-        /// Do not write the PNG figures.
-        #[arg(long)]
-        no_plots: bool,
-        /// Warm start the first variant from a params-*.json written by an earlier run.
-        #[arg(long)]
-        warm_start: Option<PathBuf>,
-        /// White noise σ of the gyro rates (deg/s) that the free run's parameters are
-        /// compensated for (`HoverIdentifier::compensate`): `auto` estimates it from the
-        /// training logs (`RateNoise`), `none` compensates nothing, one value is every rate's,
-        /// three (`Q,R,P`) are each rate's.
-        #[arg(long, default_value = "auto", value_parser = parse_gyro_noise)]
-        gyro_noise: GyroNoise,
-        /// The velocity the free run feeds the models: `model` (their own prediction, the
-        /// whole identifier's free run) or `measured` (the measured velocity while the rates
-        /// run free: the rate models' free run without the velocity model's error; the
-        /// velocities' free-run errors are then zero).
-        #[arg(long, value_enum, default_value_t = FreeRunVelocityArg::Model)]
-        free_run_velocity: FreeRunVelocityArg,
-        /// Gain K of every variant's one-step observer (`rotorid::hover::Observer`; 0 to 1,
-        /// 1 predicts from the measured state): `auto` finds each variant's on the training
-        /// logs (`GainSearch`, 0.1 to 1 in steps of 0.1), one value is every state's, six
-        /// (`VX,VY,VZ,Q,R,P`) are each state's.
-        #[arg(long, default_value = "auto", value_parser = parse_observer_gain)]
-        observer_gain: ObserverGain,
+        #[command(flatten)]
+        options: IdentifyOptions,
     },
     /// Convert a PX4 ULog (.ulg), ArduPilot DataFlash (.bin) or PX4 sdlog2 (.px4log) log to
     /// the CSV format (docs/log-format.md): ground time and implausible stretches cut,
@@ -206,70 +122,6 @@ enum Command {
         #[arg(long)]
         to: Option<f64>,
     },
-    /// Write docs/results.md from the metrics of a realistic and a clean run (used by
-    /// scripts/results.sh).
-    #[command(hide = true)]
-    Report(ReportArgs),
-    /// Write docs/robustness.md from the metrics of plant variations (used by
-    /// scripts/robustness.sh).
-    #[command(hide = true)]
-    RobustnessReport {
-        /// One plant's runs as `FAMILY|LABEL|HOVER_METRICS|ENVELOPE_METRICS[|MEASURED]`: the
-        /// table it goes in, its row's label, the metrics.json of its hover and envelope pairs,
-        /// and optionally that of the envelope pair run with `identify --free-run-velocity
-        /// measured`. Repeatable; tables and rows keep the order given.
-        #[arg(
-            long = "run",
-            value_name = "FAMILY|LABEL|HOVER|ENVELOPE[|MEASURED]",
-            value_parser = parse_run
-        )]
-        runs: Vec<RunPaths>,
-        /// The command lines that made the runs (quoted in the document).
-        #[arg(long)]
-        how: String,
-        /// Output markdown file.
-        #[arg(short, long)]
-        output: PathBuf,
-    },
-}
-
-/// The arguments of `rotorid report`.
-#[derive(clap::Args)]
-struct ReportArgs {
-    /// metrics.json of the realistic (noisy, turbulent) run.
-    #[arg(long)]
-    realistic: PathBuf,
-    /// metrics.json of the clean (no noise, still air) run.
-    #[arg(long)]
-    clean: PathBuf,
-    /// metrics.json of the envelope run (its directory also holds params-flight.json).
-    #[arg(long)]
-    envelope: Option<PathBuf>,
-    /// The second plant whose runs `--second-hover` and `--second-envelope` are.
-    #[arg(long, value_enum, default_value_t = Plant::Flybarless600)]
-    second_plant: Plant,
-    /// metrics.json of the second plant's hover run.
-    #[arg(long, requires = "second_envelope")]
-    second_hover: Option<PathBuf>,
-    /// metrics.json of the second plant's envelope run (its directory also holds
-    /// params-flight.json).
-    #[arg(long, requires = "second_hover")]
-    second_envelope: Option<PathBuf>,
-    /// metrics.json of the hover run with noisier sensors (`simulate --noise-scale 3`).
-    #[arg(long)]
-    noisy_hover: Option<PathBuf>,
-    /// A run for the section "What limits the flight default", as `GROUP|LABEL|METRICS`:
-    /// the table it goes in, its row's label, and its metrics.json (whose directory also
-    /// holds params-flight.json and params-extended-plain.json). Repeatable; tables and rows
-    /// keep the order given.
-    #[arg(long = "condition", value_name = "GROUP|LABEL|METRICS", value_parser = parse_condition)]
-    conditions: Vec<(String, String, PathBuf)>,
-    /// Seconds the results script took to simulate and identify (for the doc).
-    #[arg(long)]
-    elapsed: Option<f64>,
-    /// Output markdown file.
-    #[arg(short, long)]
-    output: PathBuf,
 }
 
 /// What went wrong in a command; `main` prints it with its causes ([`Chain`]).
@@ -283,87 +135,8 @@ enum CliError {
     Import(#[from] ImportError),
     #[error(transparent)]
     Identify(#[from] identify::IdentifyError),
-    #[error("{}: cannot read", path.display())]
-    Read {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    #[error("{}: cannot write", path.display())]
-    Write {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    #[error("{}: not the expected JSON", path.display())]
-    ParseJson {
-        path: PathBuf,
-        source: serde_json::Error,
-    },
     #[error("progress bar")]
     ProgressBar(#[from] indicatif::style::TemplateError),
-    #[error(transparent)]
-    Report(#[from] ReportError),
-}
-
-/// `FAMILY|LABEL|HOVER|ENVELOPE[|MEASURED]` of `robustness-report --run`.
-#[derive(Clone, Debug)]
-struct RunPaths {
-    family: String,
-    label: String,
-    hover: PathBuf,
-    envelope: PathBuf,
-    envelope_measured_velocity: Option<PathBuf>,
-}
-
-fn parse_run(s: &str) -> Result<RunPaths, String> {
-    match s.split('|').collect::<Vec<_>>()[..] {
-        [family, label, hover, envelope, ref measured @ ..]
-            if !hover.is_empty() && !envelope.is_empty() && measured.len() <= 1 =>
-        {
-            Ok(RunPaths {
-                family: family.to_string(),
-                label: label.to_string(),
-                hover: hover.into(),
-                envelope: envelope.into(),
-                envelope_measured_velocity: measured
-                    .first()
-                    .filter(|m| !m.is_empty())
-                    .map(PathBuf::from),
-            })
-        }
-        _ => Err(format!(
-            "expected FAMILY|LABEL|HOVER|ENVELOPE or FAMILY|LABEL|HOVER|ENVELOPE|MEASURED, got {s:?}"
-        )),
-    }
-}
-
-/// `GROUP|LABEL|METRICS` of `report --condition`.
-fn parse_condition(s: &str) -> Result<(String, String, PathBuf), String> {
-    match s.split('|').collect::<Vec<_>>()[..] {
-        [group, label, metrics]
-            if !group.is_empty() && !label.is_empty() && !metrics.is_empty() =>
-        {
-            Ok((group.to_string(), label.to_string(), PathBuf::from(metrics)))
-        }
-        _ => Err(format!("expected GROUP|LABEL|METRICS, got {s:?}")),
-    }
-}
-
-fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    serde_json::from_str(&text).map_err(|source| CliError::ParseJson {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
-fn write_text(path: &Path, text: String) -> Result<(), CliError> {
-    std::fs::write(path, text).map_err(|source| CliError::Write {
-        path: path.to_path_buf(),
-        source,
-    })
 }
 
 fn main() -> ExitCode {
@@ -387,42 +160,7 @@ fn main() -> ExitCode {
             (plant.into(), plant_variation, cyclic_power),
             &output,
         ),
-        Command::Identify {
-            logs,
-            train,
-            verify,
-            holdout,
-            rate,
-            from,
-            to,
-            full,
-            out,
-            window,
-            plot_span,
-            no_plots,
-            warm_start,
-            gyro_noise,
-            free_run_velocity,
-            observer_gain,
-        } => run_identify(&IdentifyArgs {
-            train: logs.into_iter().chain(train).collect(),
-            verify,
-            holdout,
-            options: import::ImportOptions {
-                rate_hz: rate.0,
-                from_s: from,
-                to_s: to,
-            },
-            full,
-            out: Some(out),
-            window,
-            plot_span,
-            no_plots,
-            warm_start,
-            gyro_noise,
-            free_run_velocity: free_run_velocity.into(),
-            observer_gain,
-        }),
+        Command::Identify { options } => run_identify(&options.into_args()),
         Command::Convert {
             input,
             output,
@@ -440,10 +178,6 @@ fn main() -> ExitCode {
                 to_s: to,
             },
         ),
-        Command::Report(args) => run_report(&args),
-        Command::RobustnessReport { runs, how, output } => {
-            run_robustness_report(&runs, &how, &output)
-        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -555,207 +289,9 @@ fn numbered(path: &Path, k: usize) -> PathBuf {
     path.with_file_name(format!("{stem}-{k}{ext}"))
 }
 
-/// `--rate`: `auto` (`None`) or a rate in Hz.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct RateArg(Option<f64>);
-
-fn parse_rate(text: &str) -> Result<RateArg, String> {
-    if text == "auto" {
-        return Ok(RateArg(None));
-    }
-    match text.parse::<f64>() {
-        Ok(r) if r.is_finite() && (1.0..=1000.0).contains(&r) && (1e6 / r).fract() == 0.0 => {
-            Ok(RateArg(Some(r)))
-        }
-        _ => Err(format!(
-            "`{text}` is not an identification rate: auto, or Hz from 1 to 1000 whose period is a whole number of µs (50, 25, 20, 10, …)"
-        )),
-    }
-}
-
-/// `--free-run-velocity` ([`experiments::FreeRunVelocity`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum FreeRunVelocityArg {
-    /// The velocity model's own prediction.
-    Model,
-    /// The measured velocity.
-    Measured,
-}
-
-impl From<FreeRunVelocityArg> for experiments::FreeRunVelocity {
-    fn from(v: FreeRunVelocityArg) -> Self {
-        match v {
-            FreeRunVelocityArg::Model => Self::Model,
-            FreeRunVelocityArg::Measured => Self::Measured,
-        }
-    }
-}
-
-fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
-    match text {
-        "auto" => return Ok(GyroNoise::Auto),
-        "none" => return Ok(GyroNoise::None),
-        _ => {}
-    }
-    let values = text
-        .split(',')
-        .map(|v| match v.trim().parse::<f32>() {
-            Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-            _ => Err(format!(
-                "`{v}` is not a noise σ (deg/s, finite, ≥ 0); expected auto, none, SIGMA or Q,R,P"
-            )),
-        })
-        .collect::<Result<Vec<f32>, String>>()?;
-    match values[..] {
-        [x] => Ok(GyroNoise::Given([x; 3])),
-        [q, r, p] => Ok(GyroNoise::Given([q, r, p])),
-        _ => Err(format!(
-            "`{text}`: one value or three (Q,R,P) expected, or auto, none"
-        )),
-    }
-}
-
-fn parse_observer_gain(text: &str) -> Result<ObserverGain, String> {
-    if text == "auto" {
-        return Ok(ObserverGain::Auto);
-    }
-    let values = text
-        .split(',')
-        .map(|v| match v.trim().parse::<f32>() {
-            Ok(k) if (0.0..=1.0).contains(&k) => Ok(k),
-            _ => Err(format!(
-                "`{v}` is not an observer gain (0 to 1); expected auto, K or VX,VY,VZ,Q,R,P"
-            )),
-        })
-        .collect::<Result<Vec<f32>, String>>()?;
-    match values[..] {
-        [k] => Ok(ObserverGain::Given([k; 6])),
-        [a, b, c, q, r, p] => Ok(ObserverGain::Given([a, b, c, q, r, p])),
-        _ => Err(format!(
-            "`{text}`: one observer gain or six (VX,VY,VZ,Q,R,P) expected, or auto"
-        )),
-    }
-}
-
 /// `rotorid identify`: the library's [`identify::identify`], printing as it goes.
 fn run_identify(args: &IdentifyArgs) -> Result<(), CliError> {
     let mut terminal = Terminal::new()?;
     identify::identify(args, &mut terminal)?;
     Ok(())
-}
-
-/// Prints an identification's notes to stderr and its text to stdout, with a progress bar.
-struct Terminal {
-    style: ProgressStyle,
-    bar: Option<ProgressBar>,
-}
-
-impl Terminal {
-    fn new() -> Result<Self, CliError> {
-        Ok(Self {
-            style: ProgressStyle::with_template(
-                "{msg:>12} [{bar:40}] {pos}/{len} samples ({eta})",
-            )?
-            .progress_chars("=> "),
-            bar: None,
-        })
-    }
-}
-
-impl identify::Progress for Terminal {
-    fn note(&mut self, line: &str) {
-        eprintln!("{line}");
-    }
-    fn print(&mut self, text: &str) {
-        print!("{text}");
-    }
-    fn start(&mut self, total: u64) {
-        let bar = ProgressBar::new(total);
-        bar.set_style(self.style.clone());
-        self.bar = Some(bar);
-    }
-    fn variant(&mut self, name: &'static str) {
-        if let Some(bar) = &self.bar {
-            bar.set_message(name);
-        }
-    }
-    fn tick(&mut self) {
-        if let Some(bar) = &self.bar {
-            bar.inc(1);
-        }
-    }
-    fn finish(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-fn run_robustness_report(runs: &[RunPaths], how: &str, output: &Path) -> Result<(), CliError> {
-    let runs = runs
-        .iter()
-        .map(|r| {
-            Ok(PlantRuns {
-                family: r.family.clone(),
-                label: r.label.clone(),
-                hover: read_json(&r.hover)?,
-                envelope: read_json(&r.envelope)?,
-                envelope_measured_velocity: r
-                    .envelope_measured_velocity
-                    .as_deref()
-                    .map(read_json)
-                    .transpose()?,
-            })
-        })
-        .collect::<Result<Vec<_>, CliError>>()?;
-    write_text(
-        output,
-        rotorid_cli::robustness::robustness_document(&runs, how),
-    )
-}
-
-fn run_report(args: &ReportArgs) -> Result<(), CliError> {
-    let load = read_json::<Metrics>;
-    let dir_of = |p: &Path| p.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let conditions = args
-        .conditions
-        .iter()
-        .map(|(group, label, metrics)| {
-            Ok(Condition {
-                group: group.clone(),
-                label: label.clone(),
-                metrics: load(metrics)?,
-                params: read_json(&dir_of(metrics).join("params-flight.json"))?,
-                compensated_params: {
-                    let path = dir_of(metrics).join("params-flight-compensated.json");
-                    path.exists().then(|| read_json(&path)).transpose()?
-                },
-                baseline_params: read_json(&dir_of(metrics).join("params-extended-plain.json"))?,
-            })
-        })
-        .collect::<Result<Vec<_>, CliError>>()?;
-    let envelope = match &args.envelope {
-        Some(p) => Some((load(p)?, dir_of(p))),
-        None => None,
-    };
-    let second = match (&args.second_hover, &args.second_envelope) {
-        (Some(hover), Some(envelope)) => Some((load(hover)?, load(envelope)?, dir_of(envelope))),
-        _ => None,
-    };
-    let second = second.as_ref().map(|(hover, envelope, dir)| SecondPlant {
-        airframe: args.second_plant.into(),
-        hover,
-        envelope,
-        envelope_dir: dir,
-    });
-    let md = rotorid_cli::results::results_markdown(
-        &load(&args.realistic)?,
-        &load(&args.clean)?,
-        envelope.as_ref().map(|(m, d)| (m, d.as_path())),
-        second.as_ref(),
-        args.noisy_hover.as_deref().map(load).transpose()?.as_ref(),
-        &conditions,
-        args.elapsed,
-    )?;
-    write_text(&args.output, md)
 }

@@ -1,9 +1,20 @@
 //! The `rotorid` command-line tool end to end: a short simulated flight through `simulate`
-//! and `identify`, and each kind of malformed log giving a positioned error and a non-zero
-//! exit (never a panic).
+//! and `identify` (the product's variants only), and each kind of malformed log giving a
+//! positioned error and a non-zero exit (never a panic). The studies' `report` and
+//! `robustness-report` are tested with `rotorid-lab` (host-tests/lab/tests/reports.rs).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+/// The studies' ablations of the flight default (`rotorid_lab::ablations`), which the product
+/// must not run.
+const ABLATIONS: [&str; 5] = [
+    "flight extended velocity",
+    "flight first-order rates",
+    "flight proportional thrust",
+    "flight yaw on side speed",
+    "flight data sets",
+];
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_rotorid"))
@@ -104,7 +115,19 @@ fn end_to_end_on_a_short_flight() {
         .collect();
     assert_eq!(names, expected);
     assert_eq!(&names[..2], ["paper fuzzy", "paper plain"]); // Table 4's columns
-                                                             // f32 against f64 for the extended structures is part of every report.
+                                                             // The product runs the models a user may fly and the baselines, never the studies'
+                                                             // ablations (`rotorid-lab identify` runs those): not in metrics.json, not in the printed
+                                                             // tables, no params file.
+    for ablation in ABLATIONS {
+        assert!(!names.contains(&ablation), "{ablation} in metrics.json");
+        assert!(!stdout.contains(ablation), "{ablation} printed:\n{stdout}");
+        let file = format!("params-{}.json", ablation.replace(' ', "-"));
+        assert!(!out.join(&file).exists(), "{file} written");
+    }
+    for candidate in rotorid_cli::verdict::CANDIDATES {
+        assert!(names.contains(&candidate), "{candidate} missing");
+    }
+    // f32 against f64 for the extended structures is part of every report.
     let precision = metrics["precision"].as_array().expect("precision");
     assert_eq!(precision.len(), 2);
     for p in precision {
@@ -319,158 +342,6 @@ fn end_to_end_on_a_short_flight() {
         text(&o.stderr)
     );
 
-    // `report` of this run's metrics as both the realistic and the clean run, with `extra`.
-    let report = |extra: &[std::ffi::OsString]| {
-        run(bin()
-            .args(["report", "--realistic"])
-            .arg(out.join("metrics.json"))
-            .arg("--clean")
-            .arg(out.join("metrics.json"))
-            .args(extra)
-            .arg("-o")
-            .arg(dir.join("results.md")))
-    };
-
-    // `report` names the file it could not read, then the system's reason.
-    let lone = dir.join("lone");
-    std::fs::create_dir_all(&lone).expect("dir");
-    std::fs::copy(out.join("metrics.json"), lone.join("metrics.json")).expect("copy");
-    let o = report(&["--envelope".into(), lone.join("metrics.json").into()]);
-    assert_eq!(o.status.code(), Some(1));
-    let missing = lone.join("params-flight.json");
-    assert!(
-        text(&o.stderr).contains(&format!("{}: cannot read: ", missing.display())),
-        "{}",
-        text(&o.stderr)
-    );
-
-    // `--condition GROUP|LABEL|METRICS` adds a row of the flight default's ratios to its
-    // group's table; a value without three parts is refused before anything is read.
-    let condition = format!("Same pair|once more|{}", out.join("metrics.json").display());
-    let o = report(&["--condition".into(), condition.into()]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let md = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
-    let row = md
-        .lines()
-        .find(|l| l.starts_with("| once more | "))
-        .unwrap_or_else(|| panic!("no condition row in:\n{md}"));
-    assert!(md.contains("#### Same pair\n"), "{md}");
-    // Eleven cells (label, six states, one step, two drags, q's speed stability), the drags
-    // and M_u read from params-flight.json and params-extended-plain.json.
-    assert_eq!(row.matches(" | ").count(), 10, "{row}");
-    assert!(!row.contains("–"), "{row}");
-    let o = report(&["--condition".into(), "two|parts".into()]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        text(&o.stderr).contains("expected GROUP|LABEL|METRICS"),
-        "{}",
-        text(&o.stderr)
-    );
-
-    // `robustness-report --run FAMILY|LABEL|HOVER|ENVELOPE`: one row per plant in its family's
-    // table, each criterion marked, and the family's count of plants meeting each.
-    let m = out.join("metrics.json").display().to_string();
-    let robustness = |runs: &[String]| {
-        let mut cmd = bin();
-        cmd.arg("robustness-report");
-        for r in runs {
-            cmd.args(["--run", r]);
-        }
-        run(cmd
-            .args(["--how", "by hand", "-o"])
-            .arg(dir.join("robustness.md")))
-    };
-    let o = robustness(&[
-        format!("Fam|plant A|{m}|{m}"),
-        format!("Fam|plant B|{m}|{m}"),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let md = std::fs::read_to_string(dir.join("robustness.md")).expect("robustness.md");
-    assert!(md.contains("### Fam\n"), "{md}");
-    assert!(md.contains("by hand"), "{md}");
-    // The criteria tables come first; the second-order term's section follows them.
-    let (criteria, second_order) = md
-        .split_once("## The hover one-step miss on q and the second-order term")
-        .unwrap_or_else(|| panic!("no second-order section in:\n{md}"));
-    assert!(second_order.contains("### Fam: with / without the second-order term"));
-    // Between them, the model the verdict chose on each plant: the same on two equal plants.
-    let (criteria, choice) = criteria
-        .split_once("## The model the verdict chooses")
-        .unwrap_or_else(|| panic!("no section on the verdict's choice in:\n{md}"));
-    let chosen: Vec<&str> = choice
-        .lines()
-        .filter(|l| l.starts_with("| plant "))
-        .collect();
-    assert_eq!(chosen.len(), 3, "{choice}");
-    assert_eq!(
-        chosen[1].replace("plant A", "plant B"),
-        chosen[2],
-        "{choice}"
-    );
-    assert!(
-        choice.contains("Of 4 runs (hover and envelope)"),
-        "{choice}"
-    );
-    let pairs: Vec<&str> = second_order
-        .lines()
-        .filter(|l| l.starts_with("| plant "))
-        .collect();
-    assert_eq!(pairs.len(), 3, "{second_order}");
-    // Each cell pairs the flight default's ratio with the first-order variant's.
-    assert_eq!(pairs[1].matches(" / ").count(), 7, "{}", pairs[1]);
-    assert!(second_order.contains(
-        "Of 2 plants: hover one step from the measured state on q within 3 % with the term: "
-    ));
-    let rows: Vec<&str> = criteria
-        .lines()
-        .filter(|l| l.starts_with("| plant "))
-        .collect();
-    // The header row starts with "| plant |" too.
-    assert_eq!(rows.len(), 3, "{md}");
-    assert_eq!(rows[1].replace("plant A", "plant B"), rows[2], "{md}");
-    assert!(md.contains("Of 2 plants: "), "{md}");
-    // Two equal plants: both meet every criterion or neither does.
-    let all = if rows[1].contains('❌') { 0 } else { 2 };
-    assert!(md.contains(&format!("every criterion: {all}.")), "{md}");
-    let o = robustness(&["Fam|plant A|only-hover".into()]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        text(&o.stderr).contains("expected FAMILY|LABEL|HOVER|ENVELOPE"),
-        "{}",
-        text(&o.stderr)
-    );
-    assert!(
-        !md.contains("## The envelope miss on r"),
-        "no measured runs given"
-    );
-    // With a fifth part (the envelope pair's run on the measured velocity): r's ratio as flown
-    // and on the measured velocity, per plant.
-    let mv = out_measured.join("metrics.json").display().to_string();
-    let o = robustness(&[format!("Fam|plant A|{m}|{m}|{mv}")]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let md = std::fs::read_to_string(dir.join("robustness.md")).expect("robustness.md");
-    let (_, section) = md
-        .split_once("## The envelope miss on r and the velocity model")
-        .unwrap_or_else(|| panic!("no measured-velocity section in:\n{md}"));
-    let r_ratio = |m: &serde_json::Value| {
-        let r = |name| by_name(m, name)["free_run"][4].as_f64().expect("r");
-        r("flight") / r("extended plain")
-    };
-    let row = section
-        .lines()
-        .find(|l| l.starts_with("| plant A |"))
-        .unwrap_or_else(|| panic!("no row in:\n{section}"));
-    let cells: Vec<f64> = row
-        .split('|')
-        .filter_map(|c| c.split_whitespace().next()?.parse().ok())
-        .collect();
-    let expected = [r_ratio(&metrics), r_ratio(&m_measured)];
-    assert_eq!(cells.len(), 2, "{row}");
-    for (cell, e) in cells.iter().zip(expected) {
-        assert!((cell - e).abs() <= 0.005, "{row}: {expected:?}");
-    }
-    let o = robustness(&[format!("Fam|plant A|{m}|{m}|{mv}|extra")]);
-    assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

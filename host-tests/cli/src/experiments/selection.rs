@@ -149,7 +149,7 @@ pub struct TermSelection {
 /// gets zero gain, so it stays exactly 0 and least squares fits the other terms as if it were
 /// absent; its covariance with them stays zero, so the gyro-noise compensation leaves it at 0
 /// too.
-pub(crate) fn pin_to_zero<const D: usize, const DP: usize>(
+pub fn pin_to_zero<const D: usize, const DP: usize>(
     rules: &mut [RlsState<f32, D, DP>],
     term: usize,
 ) {

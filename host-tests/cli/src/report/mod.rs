@@ -205,11 +205,6 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
     s
 }
 
-mod error;
 mod figures;
-mod markdown;
 
-pub use error::ReportError;
 pub use figures::{write_figures, DrawError, FigureError};
-pub(crate) use markdown::{better_states, list};
-pub use markdown::{extended_markdown, table4_markdown, variants_markdown};

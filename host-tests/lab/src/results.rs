@@ -1,14 +1,16 @@
-//! `docs/results.md`: the hover report ([`crate::report`]) and the flight report
+//! `docs/results.md`: the hover report ([`crate::tables`]) and the flight report
 //! ([`crate::flight_report`]) in one document. Above both, so that neither depends on the other.
 
 use std::path::Path;
 
 use rotorid_sim::plant::{trim_hover, Airframe};
 
+use crate::error::ReportError;
 use crate::flight_report::{
     conditions_markdown, flight_by_state, flight_markdown, noisy_markdown, Condition,
 };
-use crate::report::*;
+use crate::tables::{better_states, extended_markdown, list, table4_markdown, variants_markdown};
+use rotorid_cli::report::Metrics;
 
 /// The runs of the second plant: its hover pair's metrics and its envelope pair's (with the
 /// directory of the latter, which holds params-flight.json).

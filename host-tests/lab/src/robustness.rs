@@ -2,12 +2,12 @@
 //! (`rotorid simulate --plant-variation`), each flown through the hover pair and the envelope
 //! pair, judged by issue 11's criteria ([`HOVER_TOLERANCE`], [`ENVELOPE_TARGET`]).
 
-use crate::experiments::VariantResult;
 use crate::flight_report::{
     first_seen, mark, worst_ratio, BASELINE, ENVELOPE_TARGET, FIRST_ORDER_RATES, FLIGHT,
     HOVER_TOLERANCE,
 };
-use crate::report::Metrics;
+use rotorid_cli::experiments::VariantResult;
+use rotorid_cli::report::Metrics;
 
 /// One plant's runs (`rotorid robustness-report --run`).
 pub struct PlantRuns {

@@ -1,7 +1,7 @@
-//! The markdown tables of a run: variants side by side, the Table 4 analogue, the extended
-//! structures.
+//! The markdown tables of a run's metrics in docs/results.md: variants side by side, the
+//! Table 4 analogue, the extended structures.
 
-use super::*;
+use rotorid_cli::report::{state_labels, Metrics, Table4};
 
 fn row(label: &str, cells: &[String]) -> String {
     format!("| {label} | {} |\n", cells.join(" | "))
@@ -162,8 +162,8 @@ One-step error (θ frozen) against the hold baseline on every state (ratio below
 f32 against f64 after the identification flight (flight settings: U-D RLS, helicopter scaling), over the well-excited parameters (posterior variance below {:.0e} of the prior, magnitude above {:.0e} of the model's largest):
 
 ",
-            crate::precision::WELL_EXCITED,
-            crate::precision::NEGLIGIBLE
+            rotorid_cli::precision::WELL_EXCITED,
+            rotorid_cli::precision::NEGLIGIBLE
         );
         s += "| variant | parameters | compared | max relative difference | median | target 1e-3 |
 |---|---:|---:|---:|---:|---|

@@ -7,8 +7,9 @@ use std::path::Path;
 
 use rotorid::hover::{RateAxis, RateStructure, VelocityStructure};
 
-use crate::experiments::{ModelParameters, VariantResult};
-use crate::report::{Metrics, ReportError};
+use crate::error::ReportError;
+use rotorid_cli::experiments::{ModelParameters, VariantResult};
+use rotorid_cli::report::Metrics;
 use rotorid_sim::plant::{derivative, trim_hover, Airframe, Helicopter, PlantError, State};
 
 /// The variant every other is measured against.
@@ -486,7 +487,7 @@ pub fn flight_markdown(
     s += "\n### The observers' gains K (v_x, v_y, v_z, q, r, p), found on the training flights\n\n";
     s += &gains(hover, envelope);
     s += "\n### Envelope flights: absolute errors\n\n";
-    s += &crate::report::variants_markdown(envelope);
+    s += &crate::tables::variants_markdown(envelope);
 
     let path = envelope_dir.join(format!("params-{FLIGHT}.json"));
     let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
@@ -531,7 +532,7 @@ pub fn flight_markdown(
 const SIDE_SPEED_YAW: &str = "flight yaw on side speed";
 
 /// The flight default's and [`BASELINE`]'s frozen one-step bias on the rates per flight
-/// regime of the envelope verification flight ([`crate::experiments::one_step_bias`]), and
+/// regime of the envelope verification flight ([`rotorid_cli::experiments::one_step_bias`]), and
 /// r's for [`SIDE_SPEED_YAW`] when it was run.
 fn regime_bias(envelope: &Metrics) -> String {
     let find = |n: &str| {
