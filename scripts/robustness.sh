@@ -77,9 +77,9 @@ how="scripts/robustness.sh $plants
   rotorid simulate --plant PLANT --plant-variation SEED --kind verification --seed 2 --duration 300 -o verify.csv
   rotorid simulate --plant PLANT --plant-variation SEED --kind envelope --seed 1 -o envelope.csv
   rotorid simulate --plant PLANT --plant-variation SEED --kind envelope-verification --seed 2 -o envelope-verify.csv
-  rotorid identify --train ident.csv --verify verify.csv --out hover --no-plots
-  rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
-  rotorid identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured --no-plots --free-run-velocity measured"
+  rotorid-lab identify --train ident.csv --verify verify.csv --out hover --no-plots
+  rotorid-lab identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+  rotorid-lab identify --train envelope.csv --verify envelope-verify.csv --out envelope-measured --no-plots --free-run-velocity measured"
 [ -z "$skipped" ] || how+="
 not flown (the simulation failed):$skipped"
 "$lab" robustness-report "${runs[@]}" --how "$how" -o "$output"

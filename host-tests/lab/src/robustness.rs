@@ -217,10 +217,10 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          (±10 %) by random factors drawn from the seed (`rotorid_sim::plant::variation`). Each \
          plant flies the same four flights as the airframe in docs/results.md (hover \
          identification and verification, envelope and envelope verification, the pilot and \
-         inputs scaled to the plant), and `rotorid identify` trains and verifies every variant \
-         on each pair. The plants were drawn after the flight default's structure, rules and \
-         learning were chosen, and nothing in them was tuned to these plants. One later choice \
-         was not blind to them: the free run's compensation for the gyro noise \
+         inputs scaled to the plant), and `rotorid-lab identify` trains and verifies every \
+         variant (the product's and the ablations) on each pair. The plants were drawn after \
+         the flight default's structure, rules and learning were chosen, and nothing in them \
+         was tuned to these plants. One later choice was not blind to them: the free run's compensation for the gyro noise \
          (`HoverIdentifier::compensate`) was added because of two X-Cell-like plants' hover \
          losses here, and its form (the damping term's noise fully, the second-order term's \
          only in its correlation with the target) was picked among five trials on these 26 \
