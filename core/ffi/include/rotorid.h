@@ -984,14 +984,14 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  *
  * | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
  * |---|---|---|---|---|
- * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 508 | 57 874 |
- * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 276 | 56 210 |
- * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 300 | 57 634 |
- * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 552 | 48 290 |
+ * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 540 | 57 778 |
+ * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 340 | 56 314 |
+ * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 13 276 | 58 098 |
+ * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 656 | 48 514 |
  * | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
- * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 088 | 52 418 |
- * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 660 | 57 562 |
- * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 420 | 61 458 |
+ * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 152 | 52 474 |
+ * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 740 | 57 786 |
+ * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 6 380 | 61 466 |
  *
  * # Safety
  * `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
