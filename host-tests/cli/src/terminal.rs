@@ -5,6 +5,7 @@
 /// Why [`Terminal::new`] failed (re-exported so that callers need not depend on `indicatif`).
 pub use indicatif::style::TemplateError;
 use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{ErrorKind, Write};
 
 use crate::identify;
 
@@ -12,6 +13,9 @@ use crate::identify;
 pub struct Terminal {
     style: ProgressStyle,
     bar: Option<ProgressBar>,
+    /// Standard output can no longer be written (a reader that stopped early, `| head`):
+    /// the rest of the text is dropped and the identification, with its files, goes on.
+    stdout_closed: bool,
 }
 
 impl Terminal {
@@ -26,6 +30,7 @@ impl Terminal {
             )?
             .progress_chars("=> "),
             bar: None,
+            stdout_closed: false,
         })
     }
 }
@@ -35,7 +40,18 @@ impl identify::Progress for Terminal {
         eprintln!("{line}");
     }
     fn print(&mut self, text: &str) {
-        print!("{text}");
+        // `print!` panics when the reader has gone; a closed pipe is not an error of the
+        // identification, any other failure is said once.
+        if self.stdout_closed {
+            return;
+        }
+        let mut out = std::io::stdout().lock();
+        if let Err(e) = out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+            self.stdout_closed = true;
+            if e.kind() != ErrorKind::BrokenPipe {
+                eprintln!("cannot write to standard output ({e}); the files are still written");
+            }
+        }
     }
     fn start(&mut self, total: u64) {
         let bar = ProgressBar::new(total);

@@ -69,6 +69,47 @@ fn identify_metrics(train: &Path, verify: &Path, out: &Path, extra: &[&str]) -> 
         .expect("json")
 }
 
+/// `rotorid identify … | head -1`: the reader goes after the first line; the tool neither
+/// panics (as `println!` on a closed pipe does) nor stops writing its files.
+#[test]
+fn a_reader_that_stops_early_does_not_crash_the_tool() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let dir = tmpdir("epipe");
+    let train = simulate(&dir, "identification", "1", "12");
+    let verify = simulate(&dir, "verification", "2", "8");
+    let out = dir.join("out");
+    let mut child = bin()
+        .args([
+            "identify",
+            "--full",
+            "--no-plots",
+            "--window",
+            "1",
+            "--train",
+        ])
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut first)
+        .expect("a first line");
+    // The reader is dropped here: the pipe is closed with most of the text unread.
+    let o = child.wait_with_output().expect("exits");
+    let stderr = text(&o.stderr);
+    assert!(!first.is_empty());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(o.status.success(), "{stderr}");
+    assert!(out.join("metrics.json").is_file(), "the files are written");
+}
+
 #[test]
 fn end_to_end_on_a_short_flight() {
     let dir = tmpdir("e2e");
