@@ -1,4 +1,4 @@
-//! Local learning ([`rotorid::local`]) and the flight identifier.
+//! Local learning ([`rotorid::ts::local`]) and the flight identifier.
 use rotorid::hover::{
     flight_sets, Attitude, BodyFrame, Controls, HoverSample, HoverState, LocalRateModel,
     LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel, VelocityStructure,
