@@ -511,9 +511,6 @@ unsafe fn header(h: *const rotorid_ident_t) -> Result<(u32, ViewFn), rotorid_err
 /// # Safety
 /// As [`header`], `I` is kind `kind`'s type, and nothing else refers to the storage during
 /// the call.
-// Used by `crate::lean` only; the fuzz crate `host-tests/fuzz/ffi` compiles this module
-// without it (until it adds `lean.rs` to its modules).
-#[allow(dead_code)]
 pub(crate) unsafe fn typed_mut<'a, I>(
     h: *mut rotorid_ident_t,
     kind: u32,

@@ -3,8 +3,12 @@
 
 use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
 use rotorid::membership::MembershipFunction;
-use rotorid::{Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier};
 use rotorid::rls::Compensation;
+use rotorid::{
+    Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
+    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+};
 
 use rotorid::record;
 use rotorid::snapshot::{Snapshot, SnapshotState};

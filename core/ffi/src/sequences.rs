@@ -4,7 +4,9 @@
 //! pseudo-random bytes. Never in the library itself.
 //!
 //! One identifier of a kind the bytes choose, then calls until the bytes run out: steps of
-//! legal, extreme and hostile samples (Euler angles or quaternions), with gaps; resumes, predictions, resets, compensations;
+//! legal, extreme and hostile samples (Euler angles or quaternions), with gaps, through the
+//! generic and the lean calls (`rotorid_lean_step_<kind>`, `rotorid_lean_resume_<kind>`, now and
+//! then of another kind than the handle's); resumes, predictions, resets, compensations;
 //! exports; imports of its own export, of its export with words replaced by hostile values (the
 //! CRC made right again, so that the values reach the core's checks) and of raw bytes; damage
 //! to the storage's header (one bit, later repaired) and moves of the storage to another
@@ -32,6 +34,7 @@ use crate::error::*;
 use crate::export::crc32;
 use crate::handle::*;
 use crate::kinds::*;
+use crate::lean::*;
 use crate::types::*;
 
 /// The bytes, read one value at a time (zeros once they run out).
@@ -127,6 +130,80 @@ fn sample(d: &mut Bytes<'_>, time_us: u64) -> rotorid_sample_t {
     s
 }
 
+/// The kind a lean call is made for (the handle's, or one time in eight another, which must be
+/// refused) and its sample: the attitude made a quaternion unless the bytes keep the sample's
+/// own form (a lean call refuses any other form).
+fn lean_call(d: &mut Bytes<'_>, kind: u32, mut s: rotorid_sample_t) -> (u32, rotorid_sample_t) {
+    let pick = d.u8();
+    let lean_kind = if pick.is_multiple_of(8) {
+        1 + u32::from((pick / 8) % 8)
+    } else {
+        kind
+    };
+    if s.attitude_form == ROTORID_ATTITUDE_EULER && pick % 16 != 1 {
+        s.attitude_form = ROTORID_ATTITUDE_QUATERNION;
+        let q = rotorid::hover::Quaternion::from_euler(&rotorid::hover::Attitude {
+            roll: s.roll,
+            pitch: s.pitch,
+            yaw: s.yaw,
+        });
+        s.q = q.to_array();
+    }
+    (lean_kind, s)
+}
+
+/// `rotorid_lean_step_<kind>` for `kind`.
+///
+/// # Safety
+/// As `rotorid_step`.
+unsafe fn lean_step(
+    kind: u32,
+    h: *mut rotorid_ident_t,
+    s: &rotorid_sample_t,
+    out: &mut rotorid_step_output_t,
+    err: &mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        match kind {
+            ROTORID_KIND_FLIGHT => rotorid_lean_step_flight(h, s, out, err),
+            ROTORID_KIND_FLIGHT_PLAIN => rotorid_lean_step_flight_plain(h, s, out, err),
+            ROTORID_KIND_PAPER_FUZZY => rotorid_lean_step_paper_fuzzy(h, s, out, err),
+            ROTORID_KIND_PAPER_PLAIN => rotorid_lean_step_paper_plain(h, s, out, err),
+            ROTORID_KIND_EXTENDED_FUZZY => rotorid_lean_step_extended_fuzzy(h, s, out, err),
+            ROTORID_KIND_EXTENDED_PLAIN => rotorid_lean_step_extended_plain(h, s, out, err),
+            ROTORID_KIND_PAPER_LOCAL => rotorid_lean_step_paper_local(h, s, out, err),
+            _ => rotorid_lean_step_extended_local(h, s, out, err),
+        }
+    }
+}
+
+/// `rotorid_lean_resume_<kind>` for `kind`.
+///
+/// # Safety
+/// As `rotorid_resume`.
+unsafe fn lean_resume(
+    kind: u32,
+    h: *mut rotorid_ident_t,
+    s: &rotorid_sample_t,
+    state: &mut rotorid_state_t,
+    err: &mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        match kind {
+            ROTORID_KIND_FLIGHT => rotorid_lean_resume_flight(h, s, state, err),
+            ROTORID_KIND_FLIGHT_PLAIN => rotorid_lean_resume_flight_plain(h, s, state, err),
+            ROTORID_KIND_PAPER_FUZZY => rotorid_lean_resume_paper_fuzzy(h, s, state, err),
+            ROTORID_KIND_PAPER_PLAIN => rotorid_lean_resume_paper_plain(h, s, state, err),
+            ROTORID_KIND_EXTENDED_FUZZY => rotorid_lean_resume_extended_fuzzy(h, s, state, err),
+            ROTORID_KIND_EXTENDED_PLAIN => rotorid_lean_resume_extended_plain(h, s, state, err),
+            ROTORID_KIND_PAPER_LOCAL => rotorid_lean_resume_paper_local(h, s, state, err),
+            _ => rotorid_lean_resume_extended_local(h, s, state, err),
+        }
+    }
+}
+
 /// The storage as bytes.
 fn image(storage: &[u64]) -> Vec<u8> {
     storage.iter().flat_map(|w| w.to_le_bytes()).collect()
@@ -200,8 +277,14 @@ pub fn run(data: &[u8]) -> Counts {
                     _ => 20_000,
                 };
                 let s = sample(&mut d, time);
-                // SAFETY: valid pointers (`h` may point to a damaged header).
-                let rc = unsafe { rotorid_step(h, &s, &mut out, &mut err) };
+                let rc = if op == 6 {
+                    let (lean_kind, s) = lean_call(&mut d, kind, s);
+                    // SAFETY: valid pointers (`h` may point to a damaged header).
+                    unsafe { lean_step(lean_kind, h, &s, &mut out, &mut err) }
+                } else {
+                    // SAFETY: valid pointers (`h` may point to a damaged header).
+                    unsafe { rotorid_step(h, &s, &mut out, &mut err) }
+                };
                 let finite = out
                     .prediction
                     .velocity
@@ -216,7 +299,10 @@ pub fn run(data: &[u8]) -> Counts {
                 let s = sample(&mut d, time);
                 // SAFETY: valid pointers.
                 let rc = unsafe {
-                    if op == 7 {
+                    if op == 7 && d.u8() % 2 == 0 {
+                        let (lean_kind, s) = lean_call(&mut d, kind, s);
+                        lean_resume(lean_kind, h, &s, &mut state, &mut err)
+                    } else if op == 7 {
                         rotorid_resume(h, &s, &mut state, &mut err)
                     } else {
                         rotorid_predict(h, core::ptr::null(), &s, &mut state, &mut err)
@@ -396,10 +482,10 @@ mod tests {
             }
             total.steps_after_hostile_import += c.steps_after_hostile_import;
         }
-        // Not vacuous: steps (0–6), imports of the own export (10) and compensations (14) were
+        // Not vacuous: steps (0–6; 6: the lean calls), imports of the own export (10) and compensations (14) were
         // both accepted and refused, raw bytes (11) refused, and steps were accepted after
         // imports of damaged values.
-        for op in [0, 10, 14] {
+        for op in [0, 6, 10, 14] {
             assert!(
                 total.ok[op] > 0 && total.refused[op] > 0,
                 "op {op}: {total:?}"

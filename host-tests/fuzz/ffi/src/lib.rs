@@ -15,6 +15,8 @@ pub mod frames;
 pub mod handle;
 #[path = "../../../../core/ffi/src/kinds.rs"]
 pub mod kinds;
+#[path = "../../../../core/ffi/src/lean.rs"]
+pub mod lean;
 #[path = "../../../../core/ffi/src/ptr.rs"]
 mod ptr;
 #[path = "../../../../core/ffi/src/record.rs"]
