@@ -31,8 +31,8 @@ use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 use rotorid::hover::{flight_sets, HoverIdentifier, StateModel};
-use rotorid::sweep::SweepSchedule;
 use rotorid::rls::RlsView;
+use rotorid::sweep::SweepSchedule;
 use rotorid::{
     Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,
