@@ -130,6 +130,9 @@ mkdir -p "$root/docs/figures/$second" "$root/docs/figures/$second/envelope"
   --no-plots
 "$lab" identify --train second-envelope.csv --verify second-envelope-verify.csv \
   --out "$root/docs/figures/$second/envelope" --no-plots
+# The documents keep the params-*.json; the same states as snapshot-*.ridx (the core's binary
+# format) would only repeat them.
+find "$root/docs/figures" -name 'snapshot-*.ridx' -delete
 end=$(date +%s)
 "$lab" report --realistic "$root/docs/figures/metrics.json" --clean clean/metrics.json \
   --envelope "$root/docs/figures/envelope/metrics.json" \
