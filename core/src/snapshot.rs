@@ -289,6 +289,34 @@ pub trait Snapshot: sealed::Sealed {
     }
 }
 
+/// The kind code of one of rotorid's identifier types: the number the C interface
+/// (`ROTORID_KIND_*`), the telemetry link, the Python package and the CLI's snapshot files
+/// write into its snapshot's header, so that a snapshot written by one is read by the others.
+/// A caller with its own identifier types chooses its own numbers (from 1 000 on, say).
+pub trait KindCode {
+    /// The code (1 to 8 for the types below).
+    const KIND: u32;
+}
+
+macro_rules! kind_codes {
+    ($($ty:ident = $code:literal),* $(,)?) => {
+        $(impl KindCode for crate::hover::$ty<f32> {
+            const KIND: u32 = $code;
+        })*
+    };
+}
+
+kind_codes!(
+    FlightIdentifier = 1,
+    FlightPlainIdentifier = 2,
+    PaperFuzzyIdentifier = 3,
+    PaperPlainIdentifier = 4,
+    ExtendedFuzzyIdentifier = 5,
+    ExtendedPlainIdentifier = 6,
+    PaperLocalIdentifier = 7,
+    ExtendedLocalIdentifier = 8,
+);
+
 impl<V, Q, R, P> sealed::Sealed for HoverIdentifier<f32, V, Q, R, P>
 where
     V: StateModel<f32, State: SnapshotState>,

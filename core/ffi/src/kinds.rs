@@ -284,3 +284,23 @@ impl Build for FlightIdentifier<f32> {
         FlightIdentifier::flight(config, sets)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rotorid::snapshot::KindCode;
+
+    /// The C codes are the core's (`rotorid::snapshot::KindCode`): a snapshot the CLI writes
+    /// imports here under the same kind.
+    #[test]
+    fn the_kind_codes_are_the_cores() {
+        assert_eq!(ROTORID_KIND_FLIGHT, FlightIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_FLIGHT_PLAIN, FlightPlainIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_PAPER_FUZZY, PaperFuzzyIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_PAPER_PLAIN, PaperPlainIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_EXTENDED_FUZZY, ExtendedFuzzyIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_EXTENDED_PLAIN, ExtendedPlainIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_PAPER_LOCAL, PaperLocalIdentifier::<f32>::KIND);
+        assert_eq!(ROTORID_KIND_EXTENDED_LOCAL, ExtendedLocalIdentifier::<f32>::KIND);
+    }
+}

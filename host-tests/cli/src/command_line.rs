@@ -76,7 +76,8 @@ pub struct IdentifyOptions {
     /// Do not write the PNG figures.
     #[arg(long)]
     pub no_plots: bool,
-    /// Warm start the first variant from a params-*.json written by an earlier run.
+    /// Warm start the first variant from a params-*.json or a snapshot-*.ridx (the core's
+    /// snapshot of the same variant type) written by an earlier run.
     #[arg(long)]
     pub warm_start: Option<PathBuf>,
     /// White noise σ of the gyro rates (deg/s) that the free run's parameters are

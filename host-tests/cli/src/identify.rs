@@ -190,6 +190,15 @@ pub enum IdentifyError {
         /// Why.
         source: std::io::Error,
     },
+    /// The warm-start snapshot (`snapshot-*.ridx`) is not one of the first variant's type and
+    /// configuration, or its values are refused.
+    #[error("{}: not a snapshot the first variant can start from ({source}); it must come from the same kind of identifier (`snapshot-<variant>.ridx` of that variant)", path.display())]
+    Snapshot {
+        /// The file.
+        path: PathBuf,
+        /// Why the core refused it.
+        source: rotorid::Error,
+    },
     /// The warm-start file is not a params-*.json.
     #[error("{}: not the expected JSON", path.display())]
     ParseJson {
@@ -215,6 +224,31 @@ pub enum IdentifyError {
     /// A figure cannot be drawn or written.
     #[error(transparent)]
     Figure(#[from] FigureError),
+}
+
+/// The warm-start parameters in a snapshot file (`snapshot-*.ridx`, the core's format: the C
+/// interface's export): read into a fresh identifier of the first variant, whose kind, length,
+/// CRC and values it must match.
+fn warm_from_snapshot(
+    path: &Path,
+    first: Option<&experiments::Variant>,
+    training: &[Vec<rotorid::hover::HoverSample<f32>>],
+    period_us: u32,
+) -> Result<Vec<ModelParameters>, IdentifyError> {
+    let bytes = std::fs::read(path).map_err(|source| IdentifyError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let refused = |source| IdentifyError::Snapshot {
+        path: path.to_path_buf(),
+        source,
+    };
+    let Some((first, kind)) = first.and_then(|v| Some((v, v.kind?))) else {
+        return Err(refused(rotorid::Error::Incompatible));
+    };
+    let mut id = (first.build)(training, period_us).map_err(refused)?;
+    id.read_snapshot(kind, &bytes).map_err(refused)?;
+    Ok(id.parameters())
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, IdentifyError> {
@@ -423,8 +457,16 @@ pub fn identify_with(
         .map(|s| flights::to_hover_samples(s))
         .collect();
     let verification = flights::to_hover_samples(&split.verification);
-    let warm: Option<Vec<ModelParameters>> =
-        args.warm_start.as_deref().map(read_json).transpose()?;
+    let warm: Option<Vec<ModelParameters>> = match args.warm_start.as_deref() {
+        None => None,
+        Some(path) if path.extension().is_some_and(|e| e == "ridx") => Some(warm_from_snapshot(
+            path,
+            variants.first(),
+            &training,
+            experiments::period_us(rate_hz),
+        )?),
+        Some(path) => Some(read_json(path)?),
+    };
     let out = args.out.as_deref();
     if let Some(out) = out {
         std::fs::create_dir_all(out).map_err(|source| IdentifyError::CreateDir {
@@ -518,6 +560,11 @@ pub fn identify_with(
         for r in &results {
             let name = r.name.replace(' ', "-");
             write_json(&out.join(format!("params-{name}.json")), &r.parameters)?;
+            if let Some(snapshot) = &r.snapshot {
+                let path = out.join(format!("snapshot-{name}.ridx"));
+                std::fs::write(&path, snapshot)
+                    .map_err(|source| IdentifyError::Write { path, source })?;
+            }
             if let Some(p) = &r.compensated_parameters {
                 write_json(&out.join(format!("params-{name}-compensated.json")), p)?;
             }

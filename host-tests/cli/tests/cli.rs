@@ -110,6 +110,95 @@ fn a_reader_that_stops_early_does_not_crash_the_tool() {
     assert!(out.join("metrics.json").is_file(), "the files are written");
 }
 
+/// `identify` writes each flyable variant's state in the core's one saved-state format
+/// (`snapshot-*.ridx`: the C interface's export bytes, the link's): the flight default's reads
+/// into the core's `FlightIdentifier` with the parameters of `params-flight.json`, and a warm
+/// start from a snapshot is the warm start from the same state's JSON.
+#[test]
+fn snapshots_hold_the_learnt_state_and_warm_start_as_the_parameters_do() {
+    use rotorid::snapshot::{KindCode, Snapshot};
+    use rotorid::{flight_sets, FlightIdentifier, HoverConfig};
+    use rotorid_cli::experiments::{Identifier, ModelParameters};
+    let dir = tmpdir("snapshot");
+    let train = simulate(&dir, "identification", "1", "12");
+    let verify = simulate(&dir, "verification", "2", "8");
+    let first = dir.join("first");
+    identify_metrics(&train, &verify, &first, &[]);
+
+    let bytes = std::fs::read(first.join("snapshot-flight.ridx")).expect("a snapshot");
+    assert_eq!(bytes.len(), FlightIdentifier::<f32>::SNAPSHOT_SIZE);
+    assert_eq!(&bytes[..4], b"RIDX");
+    let kind = FlightIdentifier::<f32>::KIND;
+    assert_eq!(
+        bytes[8..12],
+        kind.to_le_bytes(),
+        "the C interface's ROTORID_KIND_FLIGHT"
+    );
+    let mut id = FlightIdentifier::<f32>::flight(HoverConfig::default(), flight_sets()).unwrap();
+    Snapshot::read_snapshot(&mut id, kind, &bytes).expect("the core reads it");
+    let json: Vec<ModelParameters> = serde_json::from_str(
+        &std::fs::read_to_string(first.join("params-flight.json")).expect("params"),
+    )
+    .expect("json");
+    assert_eq!(
+        serde_json::to_value(Identifier::parameters(&id)).unwrap(),
+        serde_json::to_value(&json).unwrap()
+    );
+    // The ablations' types run on no flight computer: the product writes no such file, and
+    // every variant it writes parameters for has its snapshot.
+    for entry in std::fs::read_dir(&first).expect("out dir") {
+        let name = entry.expect("entry").file_name().into_string().unwrap();
+        if let Some(variant) = name
+            .strip_prefix("params-")
+            .and_then(|n| n.strip_suffix(".json"))
+            .filter(|n| !n.ends_with("-compensated"))
+        {
+            assert!(
+                first.join(format!("snapshot-{variant}.ridx")).is_file(),
+                "{variant}"
+            );
+        }
+    }
+
+    // Warm start of the first variant (paper fuzzy) from its JSON and from its snapshot.
+    let from_json = identify_metrics(
+        &train,
+        &verify,
+        &dir.join("json"),
+        &[
+            "--warm-start",
+            first.join("params-paper-fuzzy.json").to_str().unwrap(),
+        ],
+    );
+    let from_snapshot = identify_metrics(
+        &train,
+        &verify,
+        &dir.join("ridx"),
+        &[
+            "--warm-start",
+            first.join("snapshot-paper-fuzzy.ridx").to_str().unwrap(),
+        ],
+    );
+    assert_eq!(from_json["variants"][0], from_snapshot["variants"][0]);
+    // Another kind's snapshot is refused, naming the file.
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--window", "1", "--warm-start"])
+        .arg(first.join("snapshot-flight.ridx"))
+        .arg("--train")
+        .arg(&train)
+        .arg("--verify")
+        .arg(&verify)
+        .arg("--out")
+        .arg(dir.join("refused")));
+    let stderr = text(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        stderr.contains("snapshot-flight.ridx")
+            && stderr.contains("not a snapshot the first variant can start from"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn end_to_end_on_a_short_flight() {
     let dir = tmpdir("e2e");

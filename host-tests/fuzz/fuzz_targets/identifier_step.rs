@@ -9,14 +9,24 @@ use rotorid::{FlightIdentifier, HoverConfig, PaperFuzzyIdentifier};
 const SAMPLE_BYTES: usize = 8 + 13 * 4;
 
 fn sample(b: &[u8]) -> HoverSample<f32> {
-    let f = |i: usize| f32::from_le_bytes([b[8 + 4 * i], b[9 + 4 * i], b[10 + 4 * i], b[11 + 4 * i]]);
+    let f =
+        |i: usize| f32::from_le_bytes([b[8 + 4 * i], b[9 + 4 * i], b[10 + 4 * i], b[11 + 4 * i]]);
     HoverSample {
         // Mostly 20 ms steps, so that the models really learn; any value now and then.
         time_us: u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]),
-        attitude: Attitude { roll: f(0), pitch: f(1), yaw: f(2) },
+        attitude: Attitude {
+            roll: f(0),
+            pitch: f(1),
+            yaw: f(2),
+        },
         velocity: [f(3), f(4), f(5)],
         rates: [f(6), f(7), f(8)],
-        controls: Controls { col: f(9), ped: f(10), lon: f(11), lat: f(12) },
+        controls: Controls {
+            col: f(9),
+            ped: f(10),
+            lon: f(11),
+            lat: f(12),
+        },
     }
 }
 

@@ -20,7 +20,12 @@ fuzz_target!(|data: &[u8]| {
     ) else {
         return;
     };
-    let snapshot = rotorid::hover::HoverSnapshot { velocity, pitch, yaw, roll };
+    let snapshot = rotorid::hover::HoverSnapshot {
+        velocity,
+        pitch,
+        yaw,
+        roll,
+    };
     let before = id.clone();
     if id.import(&snapshot).is_err() {
         assert!(id == before, "a refused import changed the identifier");
@@ -30,10 +35,19 @@ fuzz_target!(|data: &[u8]| {
         let t = k as f32 * 0.02;
         let s = HoverSample {
             time_us: k * 20_000,
-            attitude: Attitude { roll: 0.02, pitch: -0.01, yaw: 0.1 * t },
+            attitude: Attitude {
+                roll: 0.02,
+                pitch: -0.01,
+                yaw: 0.1 * t,
+            },
             velocity: [0.1, 0.0, -0.1],
             rates: [1.0, -0.5, 0.3],
-            controls: Controls { col: 0.5, ped: 0.02, lon: 0.01, lat: -0.01 },
+            controls: Controls {
+                col: 0.5,
+                ped: 0.02,
+                lon: 0.01,
+                lat: -0.01,
+            },
         };
         if let Ok(out) = id.step(&s) {
             // An imported state may be absurd (huge but finite θ); the core then refuses what

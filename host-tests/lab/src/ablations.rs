@@ -25,26 +25,31 @@ pub fn ablations() -> Vec<Variant> {
         Variant {
             name: "flight extended velocity",
             description: "the flight default with the extended structure's translational model (VelocityStructure::Extended: drag in inertial axes on the sample's own velocity, thrust proportional to the collective): what the flight structure's translational terms add",
+            kind: None,
             build: |_, period| Ok(Box::new(flight_with_extended_velocity(period)?)),
         },
         Variant {
             name: "flight first-order rates",
             description: "the flight default with the rate models' second-order term held at zero (each rule's η pinned by a zero prior variance): what that term buys in free run and costs at one step",
+            kind: None,
             build: |_, period| Ok(Box::new(flight_with_first_order_rates(period)?)),
         },
         Variant {
             name: "flight proportional thrust",
             description: "the flight default with the translational model's thrust at zero collective held at zero (each rule's α0 pinned by a zero prior variance): the thrust proportional to the collective, as in Eq. 27; what the affine thrust buys",
+            kind: None,
             build: |_, period| Ok(Box::new(flight_with_proportional_thrust(period)?)),
         },
         Variant {
             name: "flight yaw on side speed",
             description: "the flight default with its yaw model scheduled on forward and side speed (3 x 3 rules; side sets at -5, 0, 5 m/s, σ 2.5): whether the yaw trim in sideways flight is a matter of scheduling",
+            kind: None,
             build: |_, period| Ok(Box::new(flight_with_side_speed_yaw(period)?)),
         },
         Variant {
             name: "flight data sets",
             description: "the flight default with its forward-speed sets placed at the training data's quantiles (noise floor 3σ_n)",
+            kind: None,
             build: |training, period| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
                     at(HoverConfig::default(), period),

@@ -6,6 +6,7 @@
 //! flight default's choices buys are the studies' (`rotorid-lab`), not the product's.
 
 use rotorid::hover::flight_sets;
+use rotorid::snapshot::KindCode;
 use rotorid::{
     ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
     FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
@@ -22,6 +23,7 @@ pub fn variants() -> Vec<Variant> {
             name: "paper fuzzy",
             description:
                 "Eqs. 27-30 with Table 3's sets (27+18+9+9 rules), U-D RLS, λ = 1, α = 1e6, unscaled",
+            kind: Some(PaperFuzzyIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(PaperFuzzyIdentifier::<f32>::paper_fuzzy(
                     at(HoverConfig::paper_robust(), period),
@@ -31,6 +33,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "paper plain",
             description: "Eqs. 19 and 26 (one rule per model), U-D RLS, λ = 1, α = 1e6, unscaled",
+            kind: Some(PaperPlainIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(PaperPlainIdentifier::<f32>::paper_plain(
                     at(HoverConfig::paper_robust(), period),
@@ -40,6 +43,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "extended fuzzy",
             description: "rates + damping, collective torque, trim (Table 3 sets, 18+9+9 rules); velocity + drag, tail-rotor side force (v_y sets, 3 rules); U-D RLS, helicopter scaling",
+            kind: Some(ExtendedFuzzyIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(ExtendedFuzzyIdentifier::<f32>::extended_fuzzy(
                     at(HoverConfig::default(), period),
@@ -49,6 +53,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "extended plain",
             description: "the extended terms with one rule per model; U-D RLS, helicopter scaling",
+            kind: Some(ExtendedPlainIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(ExtendedPlainIdentifier::<f32>::extended_plain(
                     at(HoverConfig::default(), period),
@@ -58,6 +63,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "paper local",
             description: "paper fuzzy's structure and Table 3 sets, each rule its own weighted RLS (local learning)",
+            kind: Some(PaperLocalIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(PaperLocalIdentifier::<f32>::paper_local(
                     at(HoverConfig::paper_robust(), period),
@@ -67,6 +73,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "extended local",
             description: "extended fuzzy's structure and sets, each rule its own weighted RLS (local learning)",
+            kind: Some(ExtendedLocalIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(ExtendedLocalIdentifier::<f32>::extended_local(
                     at(HoverConfig::default(), period),
@@ -76,6 +83,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "flight",
             description: "the flight default (FlightIdentifier): extended terms + speed and second-order rate terms, 3 rules per model on forward speed (0, 5, 10 m/s, σ 2.5), local learning, helicopter scaling",
+            kind: Some(FlightIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(FlightIdentifier::<f32>::flight(
                     at(HoverConfig::default(), period),
@@ -86,6 +94,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "flight plain",
             description: "the flight default's terms (incl. speed and second-order rate terms) with one rule per model: what the rules add",
+            kind: Some(FlightPlainIdentifier::<f32>::KIND),
             build: |_, period| {
                 Ok(Box::new(FlightPlainIdentifier::<f32>::flight_plain(
                     at(HoverConfig::default(), period),
@@ -95,6 +104,7 @@ pub fn variants() -> Vec<Variant> {
         Variant {
             name: "flight selected",
             description: "the flight default with the optional terms its training data do not support switched off (backward elimination by free run on held-out blocks of the training data; the terms are pinned at zero by a zero prior variance, so the exported state carries the choice)",
+            kind: Some(FlightIdentifier::<f32>::KIND),
             build: |training, period| {
                 let selection = select_terms(training, period)?;
                 Ok(Box::new(masked_flight(selection.mask, period)?))

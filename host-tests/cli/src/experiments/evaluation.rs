@@ -220,6 +220,10 @@ pub struct VariantResult {
     /// The parameters the free run used, when they were compensated for the gyro noise.
     #[serde(skip)]
     pub compensated_parameters: Option<Vec<ModelParameters>>,
+    /// The trained identifier in the core's snapshot format (`snapshot-*.ridx`), for a
+    /// variant with a kind code.
+    #[serde(skip)]
+    pub snapshot: Option<Vec<u8>>,
 }
 
 /// Result of [`free_run`].
@@ -468,12 +472,18 @@ pub struct EvaluationSettings {
 impl EvaluationSettings {
     /// The identifiers' sample period (µs) at [`rate_hz`](Self::rate_hz).
     pub fn period_us(&self) -> u32 {
-        let us = (1e6 / self.rate_hz).round();
-        if us.is_finite() && us >= 1.0 && us <= f64::from(u32::MAX) {
-            us as u32
-        } else {
-            1_000_000 / SAMPLE_RATE_HZ
-        }
+        period_us(self.rate_hz)
+    }
+}
+
+/// The identifiers' sample period (µs) at `rate_hz` (Hz); 50 Hz's when the rate is not a
+/// usable number.
+pub fn period_us(rate_hz: f64) -> u32 {
+    let us = (1e6 / rate_hz).round();
+    if us.is_finite() && us >= 1.0 && us <= f64::from(u32::MAX) {
+        us as u32
+    } else {
+        1_000_000 / SAMPLE_RATE_HZ
     }
 }
 
@@ -594,5 +604,6 @@ pub fn evaluate(
         free_run_trace: free.trace,
         parameters: id.parameters(),
         compensated_parameters: compensated.map(|c| c.parameters()),
+        snapshot: variant.kind.map(|kind| id.snapshot(kind)),
     })
 }

@@ -7,6 +7,7 @@ use rotorid::hover::{
 };
 use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Algorithm, Compensation, RlsState};
+use rotorid::snapshot::Snapshot;
 use serde::{Deserialize, Serialize};
 
 use super::error::ParametersError;
@@ -34,6 +35,13 @@ pub trait Identifier {
     fn parameters(&self) -> Vec<ModelParameters>;
     /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
     fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), ParametersError>;
+    /// What was learnt in the core's one saved-state format ([`rotorid::snapshot`]: the C
+    /// interface's export, the link's and the firmware's) under the kind code `kind`
+    /// ([`rotorid::snapshot::KindCode`]).
+    fn snapshot(&self, kind: u32) -> Vec<u8>;
+    /// Warm start from a [`snapshot`](Self::snapshot) of kind `kind` (kind, length, CRC and
+    /// every value checked first); on `Err` nothing changed.
+    fn read_snapshot(&mut self, kind: u32, bytes: &[u8]) -> Result<(), rotorid::Error>;
     /// [`HoverIdentifier::compensate`]: the parameters for a simulation, compensated for the
     /// gyros' white noise σ `[q r p]` (deg/s).
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error>;
@@ -265,6 +273,7 @@ where
     Q::State: ModelStateIo,
     R::State: ModelStateIo,
     P::State: ModelStateIo,
+    Self: Snapshot,
 {
     fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
         HoverIdentifier::step(self, sample)
@@ -351,6 +360,17 @@ where
         };
         self.import(&snapshot).map_err(ParametersError::Rejected)
     }
+
+    fn snapshot(&self, kind: u32) -> Vec<u8> {
+        let mut bytes = vec![0; Self::SNAPSHOT_SIZE];
+        // The buffer has the type's own length: writing cannot fail.
+        let _ = self.write_snapshot(kind, &mut bytes);
+        bytes
+    }
+
+    fn read_snapshot(&mut self, kind: u32, bytes: &[u8]) -> Result<(), rotorid::Error> {
+        Snapshot::read_snapshot(self, kind, bytes)
+    }
 }
 
 /// `config` at the sample period `period_us` (µs), with the same ±50 % tolerance as the
@@ -378,6 +398,10 @@ pub struct Variant {
     /// A fresh (untrained) identifier; given the training logs for variants that place their
     /// premise sets from data.
     pub build: BuildFn,
+    /// The kind code of its identifier type ([`rotorid::snapshot::KindCode`], the C
+    /// interface's `ROTORID_KIND_*`), under which its `snapshot-*.ridx` is written; `None`: a
+    /// type no flight computer runs (no snapshot file).
+    pub kind: Option<u32>,
 }
 
 impl std::fmt::Debug for Variant {
