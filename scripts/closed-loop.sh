@@ -6,7 +6,9 @@
 # k = 1..PAIRS (identification seed k, verification seed 100 + k, the verification flight
 # always flown by the default pilot) `rotorid identify` is run; scripts/closed_loop_report.py
 # compares the body-axis derivatives with the simulator's hover linearisation
-# (host-tests/sim/examples/hover_linearisation.rs) and the flight default's free run.
+# (host-tests/sim/examples/hover_linearisation.rs) and the flight default's free run, and
+# (scripts/closed_loop_iv.py) fits the pitch and yaw rates by least squares and with the
+# commanded sweep as instrument (host-tests/sim/examples/sweep_excitation.rs).
 # Deterministic: same seeds, same bits. Not run by CI (a few minutes on 2 cores).
 #
 # Usage: scripts/closed-loop.sh [PAIRS [OUTPUT]]   (default 10 pairs, docs/closed-loop.md)
@@ -21,12 +23,13 @@ output=$(realpath -m "${2:-docs/closed-loop.md}")
 scales=(0.25 0.5 1 2)
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 cargo build -q --release -p rotorid-cli --bin rotorid
-cargo build -q --release -p rotorid-sim --example hover_linearisation
+cargo build -q --release -p rotorid-sim --example hover_linearisation --example sweep_excitation
 bin="$CARGO_TARGET_DIR/release/rotorid"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 start=$(date +%s)
 "$CARGO_TARGET_DIR/release/examples/hover_linearisation" >"$work/truth.json"
+"$CARGO_TARGET_DIR/release/examples/sweep_excitation" >"$work/excitation.csv"
 
 # fly K: the verification flight of pair K and, per scale, its identification flight and
 # identification (a flight that cannot be flown leaves its metrics out; the report counts it).

@@ -9,6 +9,8 @@ import statistics
 import sys
 from pathlib import Path
 
+import closed_loop_iv as iv
+
 work, pairs, seconds = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 scales = sys.argv[4:]
 truth = json.loads((work / "truth.json").read_text())
@@ -167,3 +169,57 @@ for model, label in [(None, "holding the measured state"), ("extended plain", "e
                     ratios.append(f["free_run"][i] / d)
             cells.append(f"{med(ratios):.2f} / {max(ratios):.2f}" if ratios else "—")
         print(f"| {s} | " + " | ".join(cells) + " |")
+
+print()
+print("## Instrumental variables: the commanded sweep as instrument")
+print()
+print("On the samples of one sweep, `ẋ = D_x x + D_δ δ + D_0` (x the swept axis' rate in rad/s, "
+      "δ its recorded stick, ẋ by central differences) fitted by ordinary least squares (OLS) "
+      "and by two-stage least squares (IV) whose instruments are the sweep's commanded offset "
+      f"before the pilot's correction, lagged by {', '.join(str(l) for l in iv.LAGS)} samples "
+      "(scripts/closed_loop_iv.py, host-tests/sim/examples/sweep_excitation.rs). Cells: "
+      "**median [lowest, highest]** over the pairs. Yaw has a truth (above); pitch goes through "
+      "the flapping, which this first-order model leaves out, so only its movement with the "
+      "scale shows the feedback.")
+excitation = iv.read_excitation(work / "excitation.csv")
+AXES = [("ped", "r_radps", "u_ped", "N_r", "N_ped"), ("lon", "q_radps", "u_lon", "M_q", "M_lon")]
+fits = {}
+for s in scales:
+    for k in range(1, pairs + 1):
+        path = work / str(k) / f"ident-{s}.csv"
+        if not path.exists():
+            continue
+        log = iv.read_log(path)
+        for ch, rate, stick, _, _ in AXES:
+            try:
+                fits.setdefault((s, ch), []).append(iv.fit_axis(log, excitation, ch, rate, stick))
+            except (ValueError, ZeroDivisionError) as e:
+                print(f"\nPair {k}, scale {s}, {ch}: not fitted ({e}).")
+
+
+def span(xs):
+    return f"{med(xs):.3g} [{min(xs):.3g}, {max(xs):.3g}]" if xs else "—"
+
+
+print()
+print("| scale | " + " | ".join(f"{sym} {m}" for *_, a, b in AXES for sym in (a, b)
+                               for m in ("OLS", "IV")) + " |")
+print("|---|" + "---:|" * 8)
+for s in scales:
+    cells = []
+    for ch, *_ in AXES:
+        got = fits.get((s, ch), [])
+        for j in (0, 1):
+            for m in (0, 1):
+                cells.append(span([f[m][j] for f in got]))
+    print(f"| {s} | " + " | ".join(cells) + " |")
+print()
+print("Yaw against the truth, median relative error (estimate ÷ truth − 1) over the pairs:")
+print()
+print("| scale | N_r OLS | N_r IV | N_ped OLS | N_ped IV |")
+print("|---|---:|---:|---:|---:|")
+for s in scales:
+    got = fits.get((s, "ped"), [])
+    cells = [f"{100 * med([f[m][j] / truth[sym] - 1 for f in got]):+.1f} %" if got else "—"
+             for j, sym in ((0, "N_r"), (1, "N_ped")) for m in (0, 1)]
+    print(f"| {s} | " + " | ".join(cells) + " |")
