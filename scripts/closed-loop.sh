@@ -58,5 +58,5 @@ for k in $(seq 1 "$pairs"); do
   if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
 done
 for p in "${pids[@]}"; do wait "$p" || true; done
-python3 scripts/closed_loop_report.py "$work" "$pairs" "$(($(date +%s) - start))" "${scales[@]}" >"$output"
+PYTHONDONTWRITEBYTECODE=1 python3 scripts/closed_loop_report.py "$work" "$pairs" "$(($(date +%s) - start))" "${scales[@]}" >"$output"
 echo "wrote $output"
