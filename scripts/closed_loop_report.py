@@ -84,6 +84,8 @@ print("Derivatives are `rotorid identify`'s body-axis derivatives of region `all
       "(metrics.json, docs/derivatives.md) in SI units (1/s; m/s² or rad/s² per unit stick), "
       "with their corrected standard errors (SE).")
 print()
+print("The findings are summed up at the end, under **What the numbers show**.")
+print()
 print("Pairs scored per scale: " + ", ".join(f"{s}: {len(runs[s])} of {pairs}" for s in scales) + ".")
 
 print()
