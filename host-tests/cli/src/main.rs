@@ -85,6 +85,12 @@ enum Command {
         /// as for the undamaged plant (a worn or damaged rotor; docs/python.md's fleet example).
         #[arg(long, default_value_t = 1.0)]
         cyclic_power: f64,
+        /// The pilot's feedback as a multiple of its hover-hold gains (0.05 to 10; 1 as
+        /// designed): every stick output of the pilot times this, to see how the closed loop
+        /// biases the identification (docs/closed-loop.md). Too weak or too strong a feedback
+        /// cannot hold the helicopter; the simulation then says so.
+        #[arg(long, default_value_t = 1.0)]
+        pilot_gain_scale: f64,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -151,13 +157,19 @@ fn main() -> ExitCode {
             plant,
             plant_variation,
             cyclic_power,
+            pilot_gain_scale,
             output,
         } => run_simulate(
             kind,
             seed,
             duration,
             Sensors { clean, noise_scale },
-            (plant.into(), plant_variation, cyclic_power),
+            (
+                plant.into(),
+                plant_variation,
+                cyclic_power,
+                pilot_gain_scale,
+            ),
             &output,
         ),
         Command::Identify { options } => run_identify(&options.into_args()),
@@ -200,10 +212,10 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     sensors: Sensors,
-    (airframe, variation, cyclic_power): (Airframe, Option<u64>, f64),
+    (airframe, variation, cyclic_power, pilot_gain_scale): (Airframe, Option<u64>, f64, f64),
     output: &Path,
 ) -> Result<(), CliError> {
-    let samples = simulate::simulate(&simulate::SimulateArgs {
+    let args = simulate::SimulateArgs {
         kind: match kind {
             Kind::Identification => simulate::FlightKind::Identification,
             Kind::Verification => simulate::FlightKind::Verification,
@@ -217,7 +229,8 @@ fn run_simulate(
         airframe,
         variation,
         cyclic_power,
-    })?;
+    };
+    let samples = simulate::simulate_with_pilot_gain(&args, pilot_gain_scale)?;
     log::write_log(output, &samples)?;
     eprintln!(
         "wrote {} samples ({:.1} s) to {}",

@@ -4,7 +4,7 @@
 
 use rotorid_sim::envelope::{self, EnvelopeKind};
 use rotorid_sim::flights;
-use rotorid_sim::plant::{Airframe, FlightConfig, NoiseStd, PlantError, SensorSample};
+use rotorid_sim::plant::{Airframe, FlightConfig, NoiseStd, PlantError, SensorSample, StickScale};
 
 /// Which flight to fly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,6 +72,9 @@ pub enum SimulateError {
     /// The cyclic control power factor is out of range.
     #[error("--cyclic-power must be in [0.1, 2], got {0}")]
     CyclicPower(f64),
+    /// The pilot's gain scale is out of range.
+    #[error("--pilot-gain-scale must be in [0.05, 10], got {0}")]
+    PilotGainScale(f64),
     /// An identification flight longer than its sweeps.
     #[error(
         "--duration {given} s: the identification flight (the four Table 2 sweeps) lasts {full} s; \
@@ -114,6 +117,24 @@ pub enum SimulateError {
 /// # Errors
 /// [`SimulateError`]: an argument out of range, or a flight the plant cannot fly.
 pub fn simulate(args: &SimulateArgs) -> Result<Vec<SensorSample>, SimulateError> {
+    simulate_with_pilot_gain(args, 1.0)
+}
+
+/// [`simulate`] with the pilot's feedback `pilot_gain_scale` times as strong as its hover-hold
+/// gains (0.05 to 10; exactly 1 is [`simulate`], bit for bit): every stick output of the
+/// hover-hold pilot, and so of the slow pilot on a swept channel, times the factor. Used to
+/// quantify the closed-loop bias of the identification (docs/closed-loop.md); a feedback too
+/// weak or too strong to hold the helicopter diverges, and the error says so.
+///
+/// A separate call rather than a field of [`SimulateArgs`], so that callers building the
+/// arguments field by field keep compiling.
+///
+/// # Errors
+/// As [`simulate`], and [`SimulateError::PilotGainScale`] out of range.
+pub fn simulate_with_pilot_gain(
+    args: &SimulateArgs,
+    pilot_gain_scale: f64,
+) -> Result<Vec<SensorSample>, SimulateError> {
     let scale = args.noise_scale;
     if !(scale.is_finite() && (0.0..=100.0).contains(&scale)) {
         return Err(SimulateError::NoiseScale(scale));
@@ -121,6 +142,10 @@ pub fn simulate(args: &SimulateArgs) -> Result<Vec<SensorSample>, SimulateError>
     let power = args.cyclic_power;
     if !(power.is_finite() && (0.1..=2.0).contains(&power)) {
         return Err(SimulateError::CyclicPower(power));
+    }
+    let feedback = pilot_gain_scale;
+    if !(feedback.is_finite() && (0.05..=10.0).contains(&feedback)) {
+        return Err(SimulateError::PilotGainScale(feedback));
     }
     if let Some(d) = args.duration {
         if !(d.is_finite() && d > 0.0 && d <= 36_000.0) {
@@ -168,6 +193,16 @@ pub fn simulate(args: &SimulateArgs) -> Result<Vec<SensorSample>, SimulateError>
     if power != 1.0 {
         config.params.a_lon *= power;
         config.params.b_lat *= power;
+    }
+    // The same for the pilot: every loop's stick output times the factor (the attitude
+    // reference per speed is an angle and stays), so each loop gain scales by it.
+    if feedback != 1.0 {
+        config.gains = config.gains.scaled(&StickScale {
+            col: feedback,
+            ped: feedback,
+            lon: feedback,
+            lat: feedback,
+        });
     }
     match args.kind {
         FlightKind::Identification => {
