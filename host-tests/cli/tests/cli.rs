@@ -244,10 +244,11 @@ fn end_to_end_on_a_short_flight() {
         .map(|v| v.name)
         .collect();
     assert_eq!(names, expected);
-    assert_eq!(&names[..2], ["paper fuzzy", "paper plain"]); // Table 4's columns
-                                                             // The product runs the models a user may fly and the baselines, never the studies'
-                                                             // ablations (`rotorid-lab identify` runs those): not in metrics.json, not in the printed
-                                                             // tables, no params file.
+    // Table 4's columns.
+    assert_eq!(&names[..2], ["paper fuzzy", "paper plain"]);
+    // The product runs the models a user may fly and the baselines, never the studies'
+    // ablations (`rotorid-lab identify` runs those): not in metrics.json, not in the printed
+    // tables, no params file.
     for ablation in ABLATIONS {
         assert!(!names.contains(&ablation), "{ablation} in metrics.json");
         assert!(!stdout.contains(ablation), "{ablation} printed:\n{stdout}");
