@@ -2,6 +2,9 @@
 //!
 //! Needs `qemu-system-arm` and the `thumbv7em-none-eabihf` target (`scripts/setup.sh`).
 //! `ROTORID_LONG=1` adds the full identification + verification flights (CI).
+//!
+//! (Over 700 lines: every test drives the same QEMU firmware through the same link driver; a
+//! test file is a binary, and the firmware is built once per binary.)
 
 use std::time::Instant;
 

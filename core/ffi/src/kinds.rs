@@ -295,12 +295,24 @@ mod tests {
     #[test]
     fn the_kind_codes_are_the_cores() {
         assert_eq!(ROTORID_KIND_FLIGHT, FlightIdentifier::<f32>::KIND);
-        assert_eq!(ROTORID_KIND_FLIGHT_PLAIN, FlightPlainIdentifier::<f32>::KIND);
+        assert_eq!(
+            ROTORID_KIND_FLIGHT_PLAIN,
+            FlightPlainIdentifier::<f32>::KIND
+        );
         assert_eq!(ROTORID_KIND_PAPER_FUZZY, PaperFuzzyIdentifier::<f32>::KIND);
         assert_eq!(ROTORID_KIND_PAPER_PLAIN, PaperPlainIdentifier::<f32>::KIND);
-        assert_eq!(ROTORID_KIND_EXTENDED_FUZZY, ExtendedFuzzyIdentifier::<f32>::KIND);
-        assert_eq!(ROTORID_KIND_EXTENDED_PLAIN, ExtendedPlainIdentifier::<f32>::KIND);
+        assert_eq!(
+            ROTORID_KIND_EXTENDED_FUZZY,
+            ExtendedFuzzyIdentifier::<f32>::KIND
+        );
+        assert_eq!(
+            ROTORID_KIND_EXTENDED_PLAIN,
+            ExtendedPlainIdentifier::<f32>::KIND
+        );
         assert_eq!(ROTORID_KIND_PAPER_LOCAL, PaperLocalIdentifier::<f32>::KIND);
-        assert_eq!(ROTORID_KIND_EXTENDED_LOCAL, ExtendedLocalIdentifier::<f32>::KIND);
+        assert_eq!(
+            ROTORID_KIND_EXTENDED_LOCAL,
+            ExtendedLocalIdentifier::<f32>::KIND
+        );
     }
 }

@@ -2,6 +2,9 @@
 //! and `identify` (the product's variants only), and each kind of malformed log giving a
 //! positioned error and a non-zero exit (never a panic). The studies' `report` and
 //! `robustness-report` are tested with `rotorid-lab` (host-tests/lab/tests/reports.rs).
+//!
+//! (Over 700 lines: every test here drives the `rotorid` binary through the same flights and
+//! temp-dir helpers; a test file is a binary, and splitting it would link the tool's tests twice.)
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
