@@ -137,5 +137,7 @@ def test_identify_releases_the_gil(logs):
         last = now
         time.sleep(0.001)
     worker.join()
-    assert took[0] > 0.2, "identification too short to tell"
+    # A tenth of a second is well above the ticking thread's own pauses (a few ms); the
+    # product's nine variants take about 0.17 s on this log on an idle 2-core machine.
+    assert took[0] > 0.1, "identification too short to tell"
     assert longest < took[0] / 2
