@@ -1,21 +1,8 @@
 #![no_std]
 #![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
-// No panic path in the library: the lints below fail `cargo clippy` (and CI) on any unwrap,
-// expect, panic or unchecked index outside the tests.
-#![cfg_attr(
-    not(test),
-    deny(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::panic,
-        clippy::indexing_slicing,
-        clippy::unreachable,
-        clippy::todo,
-        clippy::unimplemented
-    )
-)]
-#![warn(missing_docs)]
+// No panic path: the workspace's lints (Cargo.toml) fail clippy and CI on any unwrap, expect,
+// panic or unchecked index outside the tests.
 
 // The `std` feature links std for its conveniences only (`From<Error> for std::io::Error`).
 #[cfg(feature = "std")]

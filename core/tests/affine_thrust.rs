@@ -1,6 +1,8 @@
 //! The flight structure's translational model takes the main rotor's thrust as affine in the
 //! collective, `(α1 u_col + α0) R e2` (`VelocityStructure::Flight`), where Eq. 27 has it
 //! proportional, `α1 u_col R e2`.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 use rotorid::hover::{rotor_axis, Attitude, Controls, HoverSample, StateModel};
 use rotorid::{ExtendedPlainIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier};
 

@@ -1,6 +1,8 @@
 //! The three forms of a sample's attitude (Euler angles, quaternion, rotation matrix): the
 //! same body frame up to rounding, the same identification up to rounding, and every wrong
 //! input refused with the identifier left bit for bit as it was.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 #[allow(dead_code)]
 #[path = "support/golden.rs"]
 mod golden;

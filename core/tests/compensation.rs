@@ -1,5 +1,7 @@
 //! Compensating the rate models for the gyros' white noise
 //! ([`HoverIdentifier::compensate`](rotorid::HoverIdentifier::compensate)).
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 #[path = "support/flight_log.rs"]
 mod flight_log;
 

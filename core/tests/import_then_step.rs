@@ -6,6 +6,8 @@
 //! tiny, non-finite, random bit patterns, values at and just past the import bounds; θ, the
 //! diagonal and, above all, the off-diagonal factor entries), imports it and drives the
 //! identifier with legal and extreme samples, gaps and resumes. Deterministic (xorshift).
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 use rotorid::hover::{flight_sets, Attitude, Controls, HoverSnapshot, StateModel};
 use rotorid::rls::{RlsState, COVARIANCE_LIMIT, FACTOR_ENTRY_LIMIT, PARAMETER_LIMIT};

@@ -1,4 +1,6 @@
 //! Local learning ([`rotorid::ts::local`]) and the flight identifier.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 use rotorid::hover::{
     flight_sets, Attitude, BodyFrame, Controls, HoverSample, HoverState, LocalRateModel,
     LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel, VelocityStructure,

@@ -1,5 +1,7 @@
 //! One-step prediction through an observer ([`rotorid::hover::Observer`]) and the search for
 //! its gain ([`rotorid::hover::GainSearch`]).
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 #[path = "support/flight_log.rs"]
 mod flight_log;
 

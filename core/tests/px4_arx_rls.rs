@@ -8,6 +8,8 @@
 //! `θ = [a_1 … a_N, b_0 … b_M]`, regressor `φ(k) = [−y(k−1) … −y(k−N), u(k−D) … u(k−D−M)]`,
 //! `P(0) = 10⁴ I`, covariance form, and starts learning once its buffers hold `N + M + D + 1`
 //! samples.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 use rotorid::rls::{Rls, RlsConfig};
 

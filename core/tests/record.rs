@@ -1,5 +1,7 @@
 //! The snapshot format and the persistence record: round trips, A/B alternation, sequence
 //! wrap-around, torn and foreign slots, and that nothing is imported on any refusal.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, NorFlashErrorKind, ReadNorFlash};
 use rotorid::hover::{flight_sets, Attitude, Controls};

@@ -26,19 +26,8 @@
 
 #![no_std]
 #![allow(non_camel_case_types)]
-#![cfg_attr(
-    not(test),
-    deny(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::panic,
-        clippy::indexing_slicing,
-        clippy::unreachable,
-        clippy::todo,
-        clippy::unimplemented
-    )
-)]
-#![warn(missing_docs)]
+// No panic path: Cargo.toml's lints fail clippy and CI on any unwrap, expect, panic or
+// unchecked index outside the tests.
 
 pub mod calls;
 pub mod error;

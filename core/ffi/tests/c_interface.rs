@@ -9,6 +9,13 @@
 //!
 //! (Over 700 lines: one flight, one C driver and one size table serve the host run, the QEMU run
 //! and the blessing of the tables; split, each part would regenerate the flight.)
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 use std::fmt::Write as _;
 use std::fs;

@@ -65,21 +65,8 @@
 //! a Cortex-M4. It is also the CRC every tool knows (zlib, Python `binascii.crc32`).
 #![no_std]
 #![forbid(unsafe_code)]
-#![warn(missing_docs)]
-// No panic path: the lints below fail `cargo clippy` (and CI) on any unwrap, expect, panic or
-// unchecked index outside the tests.
-#![cfg_attr(
-    not(test),
-    deny(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::panic,
-        clippy::indexing_slicing,
-        clippy::unreachable,
-        clippy::todo,
-        clippy::unimplemented
-    )
-)]
+// No panic path: the workspace's lints (Cargo.toml) fail clippy and CI on any unwrap, expect,
+// panic or unchecked index outside the tests.
 
 mod cobs_decode;
 mod frame;

@@ -1,4 +1,6 @@
 //! A synthetic flight for the tests: second-order rate dynamics, noisy gyros.
+// Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 use rotorid::hover::{Attitude, Controls, HoverSample};
 
 /// A manoeuvring helicopter whose rates follow second-order dynamics driven by the sticks,
