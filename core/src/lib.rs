@@ -9,6 +9,7 @@
 extern crate std;
 
 pub mod convergence;
+pub mod dyn_identifier;
 pub mod error;
 pub mod frames;
 pub mod hover;
@@ -25,6 +26,7 @@ pub mod ts;
 
 // The integrator's set: the identifiers, what they take and give, and the errors. Building
 // blocks (RLS, TS estimators, rule bases, membership functions) stay in their modules.
+pub use dyn_identifier::DynIdentifier;
 pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
     flight_sets, Attitude, Controls, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier,

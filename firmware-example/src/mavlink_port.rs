@@ -8,8 +8,8 @@
 //! because this firmware has no timer interrupt; at 50 samples/s that is every 2 s.
 
 use embedded_io::Write;
-use rotorid_link::msg::{Estimate, IdOutput, Ident as LinkIdent};
-use rotorid_mavlink::{chunk_count, Encoder, Ident, MavState, Model, MAX_FRAME_LEN};
+use rotorid_link::msg::{Estimate, IdOutput, Ident};
+use rotorid_mavlink::{chunk_count, Encoder, MavState, Model, Sender, MAX_FRAME_LEN};
 
 /// A heartbeat after this many samples.
 pub const HEARTBEAT_EVERY: u32 = 100;
@@ -22,7 +22,7 @@ pub const COMPONENT_ID: u8 = 25;
 pub struct MavlinkPort<W> {
     io: W,
     enc: Encoder,
-    idents: [Ident; 2],
+    idents: [Sender; 2],
     samples: u32,
     last_time_us: u64,
 }
@@ -31,7 +31,7 @@ impl<W: Write> MavlinkPort<W> {
     /// A port writing to `io`; sends the boot heartbeat. `None` only if the identifier tags
     /// are invalid (a programming error).
     pub fn new(io: W) -> Option<Self> {
-        let idents = [Ident::new(0, "ts").ok()?, Ident::new(1, "pl").ok()?];
+        let idents = [Sender::new(0, "ts").ok()?, Sender::new(1, "pl").ok()?];
         let mut port = Self {
             io,
             enc: Encoder::new(SYSTEM_ID, COMPONENT_ID),
@@ -57,9 +57,9 @@ impl<W: Write> MavlinkPort<W> {
     }
 
     /// θ of the four models of `which` (after a `ParamsRequest`), stamped with the last sample.
-    pub fn thetas(&mut self, which: LinkIdent, thetas: &[&[f32]; 4]) {
+    pub fn thetas(&mut self, which: Ident, thetas: &[&[f32]; 4]) {
         let ident = match which {
-            LinkIdent::Plain => self.idents[1],
+            Ident::Plain => self.idents[1],
             _ => self.idents[0],
         };
         let time_us = self.last_time_us;
@@ -70,7 +70,7 @@ impl<W: Write> MavlinkPort<W> {
         }
     }
 
-    fn output(&mut self, ident: &Ident, time_us: u64, out: &IdOutput) {
+    fn output(&mut self, ident: &Sender, time_us: u64, out: &IdOutput) {
         match &out.error {
             Some(err) => self.send(|e, b| e.rejected(ident, err, b)),
             None => self

@@ -19,7 +19,7 @@ use rotorid::convergence::ConvergenceMonitor;
 use rotorid::hover::HoverSample;
 use rotorid::HoverState;
 use rotorid_link::msg::{IdOutput, SampleMode, SampleMsg};
-use rotorid_mavlink::{chunk_count, Encoder, Ident, MavState, Model, ARRAY_LEN, MAX_FRAME_LEN};
+use rotorid_mavlink::{chunk_count, Encoder, MavState, Model, Sender, ARRAY_LEN, MAX_FRAME_LEN};
 use serde_json::{json, Value};
 
 use crate::onboard::{messages, Mirror};
@@ -77,7 +77,7 @@ impl Writer {
         });
     }
 
-    fn output(&mut self, ident: &Ident, time_us: u64, out: &IdOutput) {
+    fn output(&mut self, ident: &Sender, time_us: u64, out: &IdOutput) {
         if let Some(err) = &out.error {
             // The documented ASCII spelling of the core's few non-ASCII characters.
             let mut text = format!("{}: {err}", ident.tag());
@@ -99,7 +99,7 @@ impl Writer {
         });
     }
 
-    fn theta(&mut self, ident: &Ident, model: Model, time_us: u64, theta: &[f32]) {
+    fn theta(&mut self, ident: &Sender, model: Model, time_us: u64, theta: &[f32]) {
         for c in 0..chunk_count(theta.len()) {
             let mut data = [0f32; ARRAY_LEN];
             let part = &theta[(c * ARRAY_LEN).min(theta.len())..];
@@ -141,8 +141,8 @@ pub fn identification_stream(samples: &[SampleMsg], convergence: bool) -> Stream
         ConvergenceMonitor::<f32, 6>::new(window, tolerance, settle).expect("monitor config")
     });
     let idents = [
-        Ident::new(0, "ts").expect("tag"),
-        Ident::new(1, "pl").expect("tag"),
+        Sender::new(0, "ts").expect("tag"),
+        Sender::new(1, "pl").expect("tag"),
     ];
     let mut w = Writer {
         enc: Encoder::new(SYSTEM_ID, COMPONENT_ID),

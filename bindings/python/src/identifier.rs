@@ -9,12 +9,12 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use rotorid::hover::{flight_sets, Attitude, Controls, HoverState, StepOutput};
-use rotorid::snapshot::Snapshot;
+use rotorid::hover::{flight_sets, Attitude, Controls, HoverState};
+use rotorid::snapshot::KindCode;
 use rotorid::{
-    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
-    FlightPlainIdentifier, HoverConfig, HoverSample, PaperFuzzyIdentifier, PaperLocalIdentifier,
-    PaperPlainIdentifier,
+    DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverSample, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
 use crate::errors;
@@ -22,50 +22,43 @@ use crate::errors;
 /// Floats of one sample in a `step_many` block: attitude 3, velocity 3, rates 3, controls 4.
 pub const FLOATS_PER_SAMPLE: usize = 13;
 
-/// Every kind: its variant, name, C code, type and constructor (the list every call
-/// dispatches through).
-macro_rules! kinds {
-    ($($Var:ident, $name:literal, $code:literal, $T:ty, $new:expr;)*) => {
-        enum Any {
-            $($Var(Box<$T>),)*
-        }
+/// One identifier of any kind, behind the core's dyn-compatible [`DynIdentifier`], with its
+/// name and kind code.
+struct Any {
+    name: &'static str,
+    code: u32,
+    id: Box<dyn DynIdentifier + Send + Sync>,
+}
 
-        /// The kind names, in C code order.
+/// Every kind: its name, type and constructor (the list `build` chooses from). The codes are
+/// the core's ([`KindCode`]), which the C interface's `ROTORID_KIND_*` equal.
+macro_rules! kinds {
+    ($($name:literal, $T:ty, $new:expr;)*) => {
+        /// The kind names, in kind code order.
         pub const KIND_NAMES: &[&str] = &[$($name),*];
 
         fn build(name: &str) -> Option<Result<Any, rotorid::Error>> {
             match name {
-                $($name => Some($new(HoverConfig::default()).map(|i| Any::$Var(Box::new(i)))),)*
+                $($name => Some($new(HoverConfig::default()).map(|id: $T| Any {
+                    name: $name,
+                    code: <$T as KindCode>::KIND,
+                    id: Box::new(id),
+                })),)*
                 _ => None,
             }
-        }
-
-        impl Any {
-            fn name(&self) -> &'static str {
-                match self { $(Any::$Var(_) => $name,)* }
-            }
-            fn code(&self) -> u32 {
-                match self { $(Any::$Var(_) => $code,)* }
-            }
-        }
-
-        macro_rules! with {
-            ($any:expr, $id:ident => $body:expr) => {
-                match $any { $(Any::$Var($id) => $body,)* }
-            };
         }
     };
 }
 
 kinds! {
-    Flight, "flight", 1, FlightIdentifier<f32>, |c| FlightIdentifier::<f32>::flight(c, flight_sets());
-    FlightPlain, "flight_plain", 2, FlightPlainIdentifier<f32>, FlightPlainIdentifier::<f32>::flight_plain;
-    PaperFuzzy, "paper_fuzzy", 3, PaperFuzzyIdentifier<f32>, PaperFuzzyIdentifier::<f32>::paper_fuzzy;
-    PaperPlain, "paper_plain", 4, PaperPlainIdentifier<f32>, PaperPlainIdentifier::<f32>::paper_plain;
-    ExtendedFuzzy, "extended_fuzzy", 5, ExtendedFuzzyIdentifier<f32>, ExtendedFuzzyIdentifier::<f32>::extended_fuzzy;
-    ExtendedPlain, "extended_plain", 6, ExtendedPlainIdentifier<f32>, ExtendedPlainIdentifier::<f32>::extended_plain;
-    PaperLocal, "paper_local", 7, PaperLocalIdentifier<f32>, PaperLocalIdentifier::<f32>::paper_local;
-    ExtendedLocal, "extended_local", 8, ExtendedLocalIdentifier<f32>, ExtendedLocalIdentifier::<f32>::extended_local;
+    "flight", FlightIdentifier<f32>, |c| FlightIdentifier::<f32>::flight(c, flight_sets());
+    "flight_plain", FlightPlainIdentifier<f32>, FlightPlainIdentifier::<f32>::flight_plain;
+    "paper_fuzzy", PaperFuzzyIdentifier<f32>, PaperFuzzyIdentifier::<f32>::paper_fuzzy;
+    "paper_plain", PaperPlainIdentifier<f32>, PaperPlainIdentifier::<f32>::paper_plain;
+    "extended_fuzzy", ExtendedFuzzyIdentifier<f32>, ExtendedFuzzyIdentifier::<f32>::extended_fuzzy;
+    "extended_plain", ExtendedPlainIdentifier<f32>, ExtendedPlainIdentifier::<f32>::extended_plain;
+    "paper_local", PaperLocalIdentifier<f32>, PaperLocalIdentifier::<f32>::paper_local;
+    "extended_local", ExtendedLocalIdentifier<f32>, ExtendedLocalIdentifier::<f32>::extended_local;
 }
 
 fn sample(
@@ -93,31 +86,14 @@ fn state(s: &HoverState<f32>) -> [f32; 6] {
 }
 
 impl Any {
-    fn step(&mut self, s: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
-        with!(self, id => id.step(s))
-    }
-    fn resume(&mut self, s: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
-        with!(self, id => id.resume(s))
-    }
-    fn reset(&mut self) {
-        with!(self, id => id.reset())
-    }
-    fn export_size(&self) -> usize {
-        fn size<I: Snapshot>(_: &I) -> usize {
-            I::SNAPSHOT_SIZE
-        }
-        with!(self, id => size(&**id))
-    }
     fn export(&self) -> Option<Vec<u8>> {
-        let code = self.code();
-        let mut out = vec![0u8; self.export_size()];
-        let n = with!(self, id => id.write_snapshot(code, &mut out)).ok()?;
+        let mut out = vec![0u8; self.id.snapshot_size()];
+        let n = self.id.write_snapshot(self.code, &mut out).ok()?;
         out.truncate(n);
         Some(out)
     }
     fn import(&mut self, bytes: &[u8]) -> Result<(), rotorid::Error> {
-        let code = self.code();
-        with!(self, id => id.read_snapshot(code, bytes))
+        self.id.read_snapshot(self.code, bytes)
     }
 }
 
@@ -155,7 +131,7 @@ fn step_block(inner: &mut Any, times: &[u8], floats: &[u8]) -> Many {
             [q, rr, pp],
             [c, pe, lo, la],
         );
-        match inner.step(&s) {
+        match inner.id.step(&s) {
             Ok(out) => {
                 predictions.extend(state(&out.prediction));
                 match &out.innovation {
@@ -194,19 +170,19 @@ impl Identifier {
     /// The kind's name.
     #[getter]
     fn kind(&self) -> &'static str {
-        self.inner.name()
+        self.inner.name
     }
 
     /// The kind's code in the C interface (`ROTORID_KIND_*`).
     #[getter]
     fn kind_code(&self) -> u32 {
-        self.inner.code()
+        self.inner.code
     }
 
     /// Bytes of an export (`ROTORID_<KIND>_EXPORT_SIZE`).
     #[getter]
     fn export_size(&self) -> usize {
-        self.inner.export_size()
+        self.inner.id.snapshot_size()
     }
 
     /// Takes one sample; returns `(prediction, innovation)`: the one-step prediction of the
@@ -221,7 +197,7 @@ impl Identifier {
         controls: [f32; 4],
     ) -> PyResult<([f32; 6], Option<[f32; 6]>)> {
         let s = sample(time_us, attitude, velocity, rates, controls);
-        let out = self.inner.step(&s).map_err(|e| errors::core(e, ""))?;
+        let out = self.inner.id.step(&s).map_err(|e| errors::core(e, ""))?;
         Ok((state(&out.prediction), out.innovation.as_ref().map(state)))
     }
 
@@ -236,13 +212,13 @@ impl Identifier {
         controls: [f32; 4],
     ) -> PyResult<[f32; 6]> {
         let s = sample(time_us, attitude, velocity, rates, controls);
-        let out = self.inner.resume(&s).map_err(|e| errors::core(e, ""))?;
+        let out = self.inner.id.resume(&s).map_err(|e| errors::core(e, ""))?;
         Ok(state(&out))
     }
 
     /// Forgets everything learnt (the parameters back to their initial values).
     fn reset(&mut self) {
-        self.inner.reset();
+        self.inner.id.reset();
     }
 
     /// Steps over a block: `times` n little-endian u64 (µs), `floats` n × 13 little-endian
@@ -294,6 +270,6 @@ impl Identifier {
     }
 
     fn __repr__(&self) -> String {
-        format!("<rotorid identifier kind={:?}>", self.inner.name())
+        format!("<rotorid identifier kind={:?}>", self.inner.name)
     }
 }

@@ -40,7 +40,7 @@ pub unsafe extern "C" fn rotorid_step(
             // The handle before the sample's form: a damaged handle is always NOT_INITIALISED.
             let id = ident_mut(h)?;
             let o = id.step(&HoverSample::try_from(&sample)?)?;
-            put(out, o)
+            put(out, rotorid_step_output_t::from(o))
         })();
         report(result, error)
     }
@@ -75,7 +75,7 @@ pub unsafe extern "C" fn rotorid_predict(
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
             let id = ident(h)?;
-            let p = id.predict(before.as_ref(), &HoverSample::try_from(&sample)?)?;
+            let p = id.predict_after(before.as_ref(), &HoverSample::try_from(&sample)?)?;
             put(out, p.into())
         })();
         report(result, error)
@@ -239,8 +239,8 @@ pub unsafe extern "C" fn rotorid_export(
             let id = ident(h)?;
             let out = core::slice::from_raw_parts_mut(buffer, capacity);
             let n = id
-                .export(kind, out)
-                .map_err(|()| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
+                .write_snapshot(kind, out)
+                .map_err(|_| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
             put(length, n)
         })();
         report(result, error)
@@ -275,7 +275,7 @@ pub unsafe extern "C" fn rotorid_import(
             }
             let kind = kind_of(h)?;
             let bytes = core::slice::from_raw_parts(buffer, length);
-            ident_mut(h)?.import(kind, bytes)?;
+            ident_mut(h)?.read_snapshot(kind, bytes)?;
             Ok(())
         })();
         report(result, error)

@@ -24,8 +24,7 @@
 //! writes anything; `docs/c-interface.md` shows a worked example that
 //! `tests` regenerate (`export_format_example`).
 
-use rotorid::snapshot::{self, Snapshot};
-use rotorid::Error;
+use rotorid::snapshot;
 
 /// Length of the export header: magic, format version, kind.
 pub const ROTORID_EXPORT_HEADER_SIZE: usize = 12;
@@ -51,16 +50,4 @@ pub(crate) const CRC32: crc::Crc<u32, crc::Table<1>> =
 #[allow(dead_code)]
 pub(crate) fn crc32(bytes: &[u8]) -> u32 {
     snapshot::crc32(bytes)
-}
-
-/// Writes the export of `id` (kind code `kind`) into `out`; returns the length written.
-/// `Err(())` when `out` is too short (nothing meaningful was written).
-pub(crate) fn export<I: Snapshot>(id: &I, kind: u32, out: &mut [u8]) -> Result<usize, ()> {
-    id.write_snapshot(kind, out).map_err(|_| ())
-}
-
-/// Imports an export of kind `kind` into `id`. Length, CRC, header and every value are checked
-/// before anything is written; on `Err` nothing changed. The sample chain restarts.
-pub(crate) fn import<I: Snapshot>(id: &mut I, kind: u32, bytes: &[u8]) -> Result<(), Error> {
-    id.read_snapshot(kind, bytes)
 }

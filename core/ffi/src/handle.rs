@@ -29,10 +29,11 @@
 use core::mem::{align_of, size_of};
 use core::sync::atomic::{AtomicPtr, AtomicU32, Ordering};
 
+use rotorid::hover::AnyAttitude;
 use rotorid::{
-    ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier,
-    FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier, PaperLocalIdentifier,
-    PaperPlainIdentifier,
+    DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
 use crate::error::*;
@@ -108,7 +109,7 @@ static VIEWS: [AtomicPtr<()>; KINDS + 1] =
 static PREPARED: AtomicU32 = AtomicU32::new(0);
 
 /// What each kind stores in [`VIEWS`].
-type ViewFn = unsafe fn(*mut Header) -> *mut dyn Ident;
+type ViewFn = unsafe fn(*mut Header) -> *mut AnyKind;
 
 /// What the storage holds.
 #[repr(C)]
@@ -121,13 +122,13 @@ pub(crate) struct Slot<I> {
 ///
 /// # Safety
 /// `h` points to a `Slot<I>`.
-unsafe fn view<I: Ident + 'static>(h: *mut Header) -> *mut dyn Ident {
+unsafe fn view<I: DynIdentifier<AnyAttitude<f32>> + 'static>(h: *mut Header) -> *mut AnyKind {
     // SAFETY: the caller's contract.
     unsafe { core::ptr::addr_of_mut!((*h.cast::<Slot<I>>()).ident) }
 }
 
 /// Records kind `kind`'s view function (idempotent: the same function every time).
-fn register<I: Ident + 'static>(kind: u32) {
+fn register<I: DynIdentifier<AnyAttitude<f32>> + 'static>(kind: u32) {
     let f: ViewFn = view::<I>;
     if let Some(slot) = VIEWS.get(kind as usize) {
         slot.store(f as *mut (), Ordering::Release);
@@ -151,7 +152,7 @@ fn registered(kind: u32) -> Option<ViewFn> {
 ///
 /// # Safety
 /// As `rotorid_init`.
-unsafe fn init<I: Build + Ident + 'static>(
+unsafe fn init<I: Build + DynIdentifier<AnyAttitude<f32>> + 'static>(
     kind: u32,
     storage: *mut core::ffi::c_void,
     storage_size: usize,
@@ -556,9 +557,7 @@ pub(crate) unsafe fn kind_of(h: *const rotorid_ident_t) -> Result<u32, rotorid_e
 ///
 /// # Safety
 /// As [`header`].
-pub(crate) unsafe fn ident<'a>(
-    h: *const rotorid_ident_t,
-) -> Result<&'a dyn Ident, rotorid_error_t> {
+pub(crate) unsafe fn ident<'a>(h: *const rotorid_ident_t) -> Result<&'a AnyKind, rotorid_error_t> {
     // SAFETY: the caller's contract; `view` is the one registered for the checked kind.
     unsafe {
         let (_, view) = header(h)?;
@@ -572,7 +571,7 @@ pub(crate) unsafe fn ident<'a>(
 /// As [`header`], and nothing else refers to the storage during the call.
 pub(crate) unsafe fn ident_mut<'a>(
     h: *mut rotorid_ident_t,
-) -> Result<&'a mut dyn Ident, rotorid_error_t> {
+) -> Result<&'a mut AnyKind, rotorid_error_t> {
     // SAFETY: as in `ident`.
     unsafe {
         let (_, view) = header(h)?;

@@ -3,17 +3,15 @@
 
 use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
 use rotorid::membership::MembershipFunction;
-use rotorid::rls::Compensation;
 use rotorid::{
-    Error, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
-    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, HoverSample, HoverState,
-    PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+    DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
+    FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier,
 };
 
 use rotorid::record;
 use rotorid::snapshot::{Snapshot, SnapshotState};
 
-use crate::export;
 use crate::types::*;
 
 /// The flight default: three forward-speed rules per model, local learning, the extended
@@ -71,26 +69,9 @@ pub const ROTORID_PAPER_LOCAL_EXPORT_SIZE: usize = 1780;
 /// Export bytes of `ROTORID_KIND_EXTENDED_LOCAL`.
 pub const ROTORID_EXTENDED_LOCAL_EXPORT_SIZE: usize = 3628;
 
-/// A sample as the C interface passes it: its attitude in the form the caller chose (one
-/// instantiation of each call per kind serves every form).
-pub(crate) type Sample = HoverSample<f32, AnyAttitude<f32>>;
-
-/// The calls the C interface makes on any identifier kind.
-pub(crate) trait Ident {
-    fn step(&mut self, s: &Sample) -> Result<rotorid_step_output_t, Error>;
-    fn predict(
-        &self,
-        before: Option<&HoverState<f32>>,
-        s: &Sample,
-    ) -> Result<HoverState<f32>, Error>;
-    fn resume(&mut self, s: &Sample) -> Result<HoverState<f32>, Error>;
-    fn reset(&mut self);
-    fn config(&self) -> HoverConfig<f32>;
-    fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()>;
-    fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error>;
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
-    fn config_hash(&self) -> u32;
-}
+/// Any identifier kind as the C interface calls it: the core's [`DynIdentifier`], for samples
+/// whose attitude form the caller chooses per call.
+pub(crate) type AnyKind = dyn DynIdentifier<AnyAttitude<f32>>;
 
 /// The export size of an identifier type.
 pub(crate) trait ExportSize {
@@ -105,46 +86,6 @@ where
     P: StateModel<f32, State: SnapshotState>,
 {
     const EXPORT_SIZE: usize = <Self as Snapshot>::SNAPSHOT_SIZE;
-}
-
-impl<V, Q, R, P> Ident for HoverIdentifier<f32, V, Q, R, P>
-where
-    V: StateModel<f32, State: SnapshotState>,
-    Q: StateModel<f32, State: SnapshotState>,
-    R: StateModel<f32, State: SnapshotState>,
-    P: StateModel<f32, State: SnapshotState>,
-{
-    fn step(&mut self, s: &Sample) -> Result<rotorid_step_output_t, Error> {
-        HoverIdentifier::step(self, s).map(Into::into)
-    }
-    fn predict(
-        &self,
-        before: Option<&HoverState<f32>>,
-        s: &Sample,
-    ) -> Result<HoverState<f32>, Error> {
-        self.predict_after(before, s)
-    }
-    fn resume(&mut self, s: &Sample) -> Result<HoverState<f32>, Error> {
-        HoverIdentifier::resume(self, s)
-    }
-    fn reset(&mut self) {
-        HoverIdentifier::reset(self)
-    }
-    fn config(&self) -> HoverConfig<f32> {
-        HoverIdentifier::config(self)
-    }
-    fn export(&self, kind: u32, out: &mut [u8]) -> Result<usize, ()> {
-        export::export(self, kind, out)
-    }
-    fn import(&mut self, kind: u32, bytes: &[u8]) -> Result<(), Error> {
-        export::import(self, kind, bytes)
-    }
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
-        HoverIdentifier::compensate(self, gyro_noise)
-    }
-    fn config_hash(&self) -> u32 {
-        Snapshot::config_hash(self)
-    }
 }
 
 /// Calls `$body` with `$I` the identifier type of kind code `$kind` (`$none` for an unknown

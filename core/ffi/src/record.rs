@@ -129,8 +129,8 @@ pub unsafe extern "C" fn rotorid_record_write(
                 .get_mut(record::HEADER_SIZE..)
                 .ok_or(rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
             let n = id
-                .export(kind, payload)
-                .map_err(|()| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
+                .write_snapshot(kind, payload)
+                .map_err(|_| rotorid_error_t::interface(ROTORID_E_BUFFER_SIZE))?;
             let n = record::seal(out, kind, id.config_hash(), plan.sequence, n)?;
             put(info, self::info(plan, n))
         })();
@@ -172,7 +172,7 @@ pub unsafe extern "C" fn rotorid_record_read(
             let id = ident_mut(h)?;
             let (read, payload) = record::open(a, b, kind, id.config_hash())?;
             // The export's import: every check before anything is written.
-            id.import(kind, payload)?;
+            id.read_snapshot(kind, payload)?;
             if !info.is_null() {
                 put(info, self::info(read, 0))?;
             }

@@ -14,25 +14,26 @@ use crate::EncodeError;
 /// Floats in one `DEBUG_FLOAT_ARRAY` (its `data` extension field).
 pub const ARRAY_LEN: usize = 58;
 
-/// Most characters in an [`Ident`]'s tag.
+/// Most characters in a [`Sender`]'s tag.
 pub const MAX_TAG_LEN: usize = 3;
 
-/// One identifier on the vehicle: a slot (0..=15, the top nibble of `array_id`) and a short
-/// ASCII tag that starts every message name (e.g. `ts` for the Takagi-Sugeno identifier).
+/// Who sends: one identifier on the vehicle, as a slot (0..=15, the top nibble of `array_id`)
+/// and a short ASCII tag that starts every message name (e.g. `ts` for the Takagi-Sugeno
+/// identifier).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Ident {
+pub struct Sender {
     slot: u8,
     tag: [u8; MAX_TAG_LEN],
     tag_len: u8,
 }
 
-impl Ident {
+impl Sender {
     /// An identifier in slot `slot` (≤ 15) tagged `tag` (1 to 3 ASCII letters, digits or `_`).
     pub fn new(slot: u8, tag: &str) -> Result<Self, EncodeError> {
         let ok = |b: &u8| b.is_ascii_alphanumeric() || *b == b'_';
         let bytes = tag.as_bytes();
         if slot > 15 || bytes.is_empty() || bytes.len() > MAX_TAG_LEN || !bytes.iter().all(ok) {
-            return Err(EncodeError::InvalidIdent);
+            return Err(EncodeError::InvalidSender);
         }
         let mut t = [0u8; MAX_TAG_LEN];
         for (d, s) in t.iter_mut().zip(bytes) {

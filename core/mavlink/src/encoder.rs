@@ -6,7 +6,7 @@ use mavlink_core::MessageData;
 use rotorid::convergence::ConvergenceStatus;
 use rotorid::Error;
 
-use crate::array_id::{chunk_count, ArrayId, ArrayKind, Ident, Model, ARRAY_LEN};
+use crate::array_id::{chunk_count, ArrayId, ArrayKind, Model, Sender, ARRAY_LEN};
 use crate::dialect::{
     MavAutopilot, MavModeFlag, MavSeverity, MavState, MavType, DEBUG_FLOAT_ARRAY_DATA,
     HEARTBEAT_DATA, NAMED_VALUE_FLOAT_DATA, STATUSTEXT_DATA,
@@ -70,7 +70,7 @@ impl Encoder {
     /// prior innovation (measured − predicted, same order; NaN when the step had none).
     pub fn step(
         &mut self,
-        ident: &Ident,
+        ident: &Sender,
         time_us: u64,
         prediction: &[f32; 6],
         innovation: Option<&[f32; 6]>,
@@ -92,7 +92,7 @@ impl Encoder {
     /// are [`chunk_count`]`(theta.len())` chunks.
     pub fn theta(
         &mut self,
-        ident: &Ident,
+        ident: &Sender,
         model: Model,
         chunk: u8,
         time_us: u64,
@@ -129,7 +129,7 @@ impl Encoder {
     /// `M + 1` frames, each under 32 bytes.
     pub fn convergence<const M: usize>(
         &mut self,
-        ident: &Ident,
+        ident: &Sender,
         time_boot_ms: u32,
         status: &ConvergenceStatus<f32, M>,
         out: &mut [u8],
@@ -168,7 +168,7 @@ impl Encoder {
     /// out: `θ` → `theta`, `µs` → `us`; other non-ASCII → `?`), cut to the field's 50 bytes.
     pub fn rejected(
         &mut self,
-        ident: &Ident,
+        ident: &Sender,
         error: &Error,
         out: &mut [u8],
     ) -> Result<usize, EncodeError> {
@@ -186,7 +186,7 @@ impl Encoder {
     #[allow(clippy::too_many_arguments)]
     fn array(
         &mut self,
-        ident: &Ident,
+        ident: &Sender,
         kind: ArrayKind,
         chunk: u8,
         time_us: u64,
@@ -308,14 +308,14 @@ impl<const N: usize> Payload<N> {
     }
 }
 
-/// A `char[10]` name being built; [`Ident`]'s tag limit makes every name this crate builds fit.
+/// A `char[10]` name being built; [`Sender`]'s tag limit makes every name this crate builds fit.
 struct Name {
     bytes: [u8; NAME_LEN],
     len: usize,
 }
 
 impl Name {
-    fn new(ident: &Ident) -> Self {
+    fn new(ident: &Sender) -> Self {
         let mut n = Self {
             bytes: [0; NAME_LEN],
             len: 0,

@@ -35,7 +35,7 @@ pub mod array_id;
 pub mod dialect;
 mod encoder;
 
-pub use array_id::{chunk_count, ArrayId, ArrayKind, Ident, Model, ARRAY_LEN};
+pub use array_id::{chunk_count, ArrayId, ArrayKind, Model, Sender, ARRAY_LEN};
 pub use dialect::MavState;
 pub use encoder::Encoder;
 
@@ -55,7 +55,7 @@ pub enum EncodeError {
         available: usize,
     },
     /// Slot over 15, or a tag that is empty, longer than 3 bytes or not `[A-Za-z0-9_]`.
-    InvalidIdent,
+    InvalidSender,
     /// A θ chunk past the end of the vector (or a vector over 256 chunks).
     ChunkOutOfRange,
     /// A convergence indicator over more than 24 outputs (its mask would not be exact in f32).
@@ -71,7 +71,7 @@ impl core::fmt::Display for EncodeError {
                     "MAVLink frame needs {needed} bytes, buffer has {available}"
                 )
             }
-            EncodeError::InvalidIdent => f.write_str("identifier slot > 15 or bad tag"),
+            EncodeError::InvalidSender => f.write_str("identifier slot > 15 or bad tag"),
             EncodeError::ChunkOutOfRange => f.write_str("parameter chunk out of range"),
             EncodeError::TooManyOutputs => f.write_str("more than 24 convergence outputs"),
         }

@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use rotorid::convergence::ConvergenceStatus;
 use rotorid_mavlink::dialect::MavMessage;
 use rotorid_mavlink::{
-    chunk_count, ArrayId, ArrayKind, EncodeError, Encoder, Ident, MavState, Model, ARRAY_LEN,
+    chunk_count, ArrayId, ArrayKind, EncodeError, Encoder, MavState, Model, Sender, ARRAY_LEN,
     MAX_FRAME_LEN,
 };
 
@@ -35,8 +35,8 @@ fn name(n: &[u8]) -> String {
     String::from_utf8(n.iter().copied().take_while(|b| *b != 0).collect()).unwrap()
 }
 
-fn ts() -> Ident {
-    Ident::new(0, "ts").unwrap()
+fn ts() -> Sender {
+    Sender::new(0, "ts").unwrap()
 }
 
 proptest! {
@@ -44,7 +44,7 @@ proptest! {
     fn step_arrays_carry_every_bit(p in prop::array::uniform6(any::<u32>()),
                                    i in prop::option::of(prop::array::uniform6(any::<u32>())),
                                    time_us in any::<u64>(), slot in 0u8..16) {
-        let ident = Ident::new(slot, "pl").unwrap();
+        let ident = Sender::new(slot, "pl").unwrap();
         let pred = p.map(f32::from_bits);
         let inn = i.map(|i| i.map(f32::from_bits));
         let mut enc = Encoder::new(7, 25);
@@ -184,11 +184,11 @@ fn heartbeat_is_an_onboard_component() {
 
 #[test]
 fn idents_and_array_ids() {
-    assert!(Ident::new(15, "abc").is_ok());
+    assert!(Sender::new(15, "abc").is_ok());
     for (slot, tag) in [(16, "ts"), (0, ""), (0, "abcd"), (0, "t s"), (0, "é")] {
         assert_eq!(
-            Ident::new(slot, tag),
-            Err(EncodeError::InvalidIdent),
+            Sender::new(slot, tag),
+            Err(EncodeError::InvalidSender),
             "{slot} {tag:?}"
         );
     }
@@ -249,7 +249,7 @@ proptest! {
                                       i in prop::option::of(prop::array::uniform6(any::<u32>())),
                                       time_us in any::<u64>(), sys in any::<u8>(),
                                       comp in any::<u8>(), skip in 0u8..255) {
-        let ident = Ident::new(3, "fl").unwrap();
+        let ident = Sender::new(3, "fl").unwrap();
         let mut enc = Encoder::new(sys, comp);
         let mut buf = [0u8; MAX_FRAME_LEN];
         // Any sequence number, wrapping included.

@@ -102,7 +102,7 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
     pub(super) roll: Pm,
     /// The settings that are not the models' own (the RLS settings are: see
     /// [`HoverIdentifier::config`]).
-    pub(super) timing: Timing,
+    pub(super) settings: Settings,
     /// The end of the current sample chain (valid when `timing.chained`).
     pub(super) chain: Chain<T>,
 }
@@ -111,7 +111,7 @@ pub struct HoverIdentifier<T, Vm, Qm, Rm, Pm> {
 /// the models read of the sample before it ([`Before`]).
 ///
 /// Laid out for the 11 KiB target of the paper fuzzy identifier (f32): no `Option`s (the
-/// flag of a valid chain lives in [`Timing`]'s padding), and the sample's fields kept apart,
+/// flag of a valid chain lives in [`Settings`]'s padding), and the sample's fields kept apart,
 /// its time stamp as two 32-bit words, so that the chain is 4-byte aligned and packs with
 /// the models (a `u64` would pad it to 8).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -196,9 +196,10 @@ impl<T: Real> Before<T> {
 }
 
 /// [`HoverConfig`] less the RLS settings, which each model keeps (not stored twice: the
-/// identifier's `size_of` is held to 11 KiB).
+/// identifier's `size_of` is held to 11 KiB), and two flags kept in its padding: whether a
+/// chain is open, and the [`Sharing`] cache.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub(super) struct Timing {
+pub(super) struct Settings {
     sample_period_us: u32,
     period_tolerance_us: u32,
     scaling: RegressorScaling,
@@ -211,7 +212,7 @@ pub(super) struct Timing {
 /// Which rate models are scheduled on the velocity model's premise with its sets, and so take
 /// its firing strengths ([`SharedStrengths`]) without comparing the sets at every sample.
 /// Found at the first prediction, and again after a model was handed out mutably (which could
-/// replace it). One byte in [`Timing`]'s padding.
+/// replace it). One byte in [`Settings`]'s padding.
 ///
 /// A cache, not state: it changes no result, and takes no part in equality.
 #[derive(Copy, Clone, Debug)]
@@ -252,7 +253,7 @@ impl PartialEq for Sharing {
     }
 }
 
-impl Timing {
+impl Settings {
     pub(super) fn of<T>(config: &HoverConfig<T>) -> Self {
         Self {
             sample_period_us: config.sample_period_us,
@@ -288,7 +289,7 @@ where
             pitch,
             yaw,
             roll,
-            timing: Timing::of(&config),
+            settings: Settings::of(&config),
             chain: Chain::empty(),
         })
     }
@@ -300,9 +301,9 @@ where
     pub fn config(&self) -> HoverConfig<T> {
         HoverConfig {
             rls: *self.velocity.rls_config(),
-            sample_period_us: self.timing.sample_period_us,
-            period_tolerance_us: self.timing.period_tolerance_us,
-            scaling: self.timing.scaling,
+            sample_period_us: self.settings.sample_period_us,
+            period_tolerance_us: self.settings.period_tolerance_us,
+            scaling: self.settings.scaling,
         }
     }
 
@@ -349,7 +350,7 @@ where
     /// The sample the next step will learn from, if any, its attitude as the body frame the
     /// models read (whatever form the sample's attitude came in).
     pub fn previous_sample(&self) -> Option<HoverSample<T, BodyFrame<T>>> {
-        self.timing
+        self.settings
             .chained
             .then(|| self.chain.sample().with_attitude(self.chain.frame))
     }
@@ -377,7 +378,7 @@ where
         SampleLimits::check(sample)?;
         let mut innovation = None;
         let mut before = sample.state();
-        if self.timing.chained {
+        if self.settings.chained {
             let prev = self.chain.sample();
             let frame = &self.chain.frame;
             self.check_interval(prev.time_us, sample.time_us)?;
@@ -397,7 +398,7 @@ where
         }
         let frame = sample.attitude.frame();
         self.chain = Chain::new(sample, frame, &before);
-        self.timing.chained = true;
+        self.settings.chained = true;
         // The sample passed SampleLimits, which bounds every regressor, and the parameters are
         // bounded (see the docs above): this prediction is finite, so no error comes after the
         // update was written. (`predict_keep` keeps its `Result` for the models' own checks,
@@ -469,15 +470,15 @@ where
             .predict_keep(sample, frame, before, None, &mut next)?;
         // The rate models take the velocity model's firing strengths where their premise and
         // sets are the same (the flight identifier's are): computed once per sample.
-        if !self.timing.sharing.known() {
+        if !self.settings.sharing.known() {
             let rates = [
                 self.pitch.premise_sets(),
                 self.yaw.premise_sets(),
                 self.roll.premise_sets(),
             ];
-            self.timing.sharing = Sharing::of(&self.velocity, rates);
+            self.settings.sharing = Sharing::of(&self.velocity, rates);
         }
-        let sharing = self.timing.sharing;
+        let sharing = self.settings.sharing;
         let shared = self
             .velocity
             .kept_strengths()
@@ -502,7 +503,7 @@ where
         let frame = sample.attitude.frame();
         let prediction = self.predict_keep(sample, &frame, &sample.state())?;
         self.chain = Chain::new(sample, frame, &sample.state());
-        self.timing.chained = true;
+        self.settings.chained = true;
         Ok(prediction)
     }
 
@@ -588,32 +589,32 @@ where
     /// Forgets the chain (cleared too, so that an identifier compares equal to a fresh one).
     fn end_chain_in_place(&mut self) {
         self.chain = Chain::empty();
-        self.timing.chained = false;
+        self.settings.chained = false;
     }
 
     /// Mutable access to the translational model, for importing one model at a time (a
     /// firmware can stage one model's state instead of a whole snapshot). Importing a model
     /// does not restart the sample chain.
     pub fn velocity_model_mut(&mut self) -> &mut Vm {
-        self.timing.sharing = Sharing::UNKNOWN;
+        self.settings.sharing = Sharing::UNKNOWN;
         &mut self.velocity
     }
 
     /// Mutable access to the q̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn pitch_model_mut(&mut self) -> &mut Qm {
-        self.timing.sharing = Sharing::UNKNOWN;
+        self.settings.sharing = Sharing::UNKNOWN;
         &mut self.pitch
     }
 
     /// Mutable access to the r̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn yaw_model_mut(&mut self) -> &mut Rm {
-        self.timing.sharing = Sharing::UNKNOWN;
+        self.settings.sharing = Sharing::UNKNOWN;
         &mut self.yaw
     }
 
     /// Mutable access to the p̂ model (see [`velocity_model_mut`](Self::velocity_model_mut)).
     pub fn roll_model_mut(&mut self) -> &mut Pm {
-        self.timing.sharing = Sharing::UNKNOWN;
+        self.settings.sharing = Sharing::UNKNOWN;
         &mut self.roll
     }
 
@@ -628,7 +629,7 @@ where
         self.pitch.reconfigure(&config)?;
         self.yaw.reconfigure(&config)?;
         self.roll.reconfigure(&config)?;
-        self.timing = Timing::of(&config);
+        self.settings = Settings::of(&config);
         self.end_chain_in_place();
         Ok(())
     }
@@ -640,8 +641,8 @@ where
             return Err(Error::NonMonotonicTime);
         }
         let dt = next_us - prev_us;
-        let nominal = u64::from(self.timing.sample_period_us);
-        let tol = u64::from(self.timing.period_tolerance_us);
+        let nominal = u64::from(self.settings.sample_period_us);
+        let tol = u64::from(self.settings.period_tolerance_us);
         let (min, max) = (nominal - tol, nominal + tol);
         if dt < min || dt > max {
             return Err(Error::TimeStep {

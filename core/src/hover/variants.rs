@@ -4,7 +4,7 @@
 
 use crate::error::Error;
 use crate::hover::config::HoverConfig;
-use crate::hover::identifier::{Chain, HoverIdentifier, Timing};
+use crate::hover::identifier::{Chain, HoverIdentifier, Settings};
 use crate::hover::models::{
     Premise, RateAxis, RateModel, RateStructure, VelocityModel, VelocityStructure,
 };
@@ -238,7 +238,7 @@ fn build<
         pitch: RateModel::with_scaling_unchecked(RateAxis::Pitch, rules.1, rate, pr, c, rq),
         yaw: RateModel::with_scaling_unchecked(RateAxis::Yaw, rules.2, rate, pr, c, rr),
         roll: RateModel::with_scaling_unchecked(RateAxis::Roll, rules.3, rate, pr, c, rp),
-        timing: Timing::of(&config),
+        settings: Settings::of(&config),
         chain: Chain::empty(),
     })
 }

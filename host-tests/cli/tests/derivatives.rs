@@ -448,39 +448,14 @@ fn xcell_identification_flight_has_the_signs_physics_dictates() {
     assert!(format_derivatives(&d).lines().count() <= 14);
 }
 
-/// The X-Cell's own heave and yaw derivatives at hover trim, by central differences of the
-/// simulator's state derivative (as `rotorid_sim::plant::steady_response_per_stick` takes
-/// them): `[Z_w, Z_col, N_r, N_ped]`. Heave and yaw do not go through the flapping, so the
-/// quasi-steady model holds for them and the estimates must agree.
+/// The X-Cell's own heave and yaw derivatives at hover trim
+/// ([`rotorid_sim::plant::heave_and_yaw_at_hover`]): `[Z_w, Z_col, N_r, N_ped]`. Heave and yaw
+/// do not go through the flapping, so the quasi-steady model holds for them and the estimates
+/// must agree.
 fn xcell_heave_and_yaw() -> [f64; 4] {
-    use nalgebra::Vector3;
-    use rotorid_sim::plant::{derivative as plant_derivative, trim_hover, Channel, State};
-    let p = FlightConfig::default().params;
-    let trim = trim_hover(&p, 0.0).expect("trims");
-    let h = 1e-4;
-    let accel = |sticks: &Sticks, state: &State| {
-        let (d, _) = plant_derivative(&p, state, &p.blade_pitch(sticks), &Vector3::zeros());
-        (d.vel_body.z, d.omega.z)
-    };
-    let stick = |ch: Channel| {
-        let (mut up, mut down) = (trim.sticks, trim.sticks);
-        up.set(ch, up.get(ch) + h);
-        down.set(ch, down.get(ch) - h);
-        let (a, b) = (accel(&up, &trim.state), accel(&down, &trim.state));
-        ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h))
-    };
-    let state = |perturb: fn(&mut State, f64)| {
-        let (mut up, mut down) = (trim.state, trim.state);
-        perturb(&mut up, h);
-        perturb(&mut down, -h);
-        let (a, b) = (accel(&trim.sticks, &up), accel(&trim.sticks, &down));
-        ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h))
-    };
-    let (z_col, _) = stick(Channel::Col);
-    let (_, n_ped) = stick(Channel::Ped);
-    let (z_w, _) = state(|s, d| s.vel_body.z += d);
-    let (_, n_r) = state(|s, d| s.omega.z += d);
-    [z_w, z_col, n_r, n_ped]
+    let d =
+        rotorid_sim::plant::heave_and_yaw_at_hover(&FlightConfig::default().params).expect("trims");
+    [d.z_w, d.z_col, d.n_r, d.n_ped]
 }
 
 #[test]

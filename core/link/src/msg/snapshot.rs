@@ -16,19 +16,22 @@
 
 use core::fmt;
 
-use rotorid::snapshot::{Snapshot, WordSink};
+use rotorid::snapshot::{KindCode, Snapshot, WordSink};
+use rotorid::{
+    ExtendedPlainIdentifier, FlightIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
+};
 
 use super::{Ident, IdentPair, MsgType, Payload};
 use crate::{Field, PayloadError, Reader, Writer};
 
 /// Snapshot kind of the flight default, `FlightIdentifier` (`ROTORID_KIND_FLIGHT`).
-pub const KIND_FLIGHT: u32 = 1;
+pub const KIND_FLIGHT: u32 = <FlightIdentifier<f32> as KindCode>::KIND;
 /// Snapshot kind of `PaperFuzzyIdentifier` (`ROTORID_KIND_PAPER_FUZZY`).
-pub const KIND_PAPER_FUZZY: u32 = 3;
+pub const KIND_PAPER_FUZZY: u32 = <PaperFuzzyIdentifier<f32> as KindCode>::KIND;
 /// Snapshot kind of `PaperPlainIdentifier` (`ROTORID_KIND_PAPER_PLAIN`).
-pub const KIND_PAPER_PLAIN: u32 = 4;
+pub const KIND_PAPER_PLAIN: u32 = <PaperPlainIdentifier<f32> as KindCode>::KIND;
 /// Snapshot kind of `ExtendedPlainIdentifier` (`ROTORID_KIND_EXTENDED_PLAIN`).
-pub const KIND_EXTENDED_PLAIN: u32 = 6;
+pub const KIND_EXTENDED_PLAIN: u32 = <ExtendedPlainIdentifier<f32> as KindCode>::KIND;
 
 /// The kind code in the snapshot header of identifier `ident` of `pair` (the C interface's
 /// `ROTORID_KIND_*` of the same identifier type): paper pair 3 (fuzzy) and 4 (plain), flight

@@ -29,7 +29,7 @@ use rotorid::{FlightIdentifier, HoverConfig};
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
-use super::variants::{at, Identifier};
+use super::variants::at;
 
 /// Length of the blocks the training data are cut into (s).
 pub const BLOCK_S: f64 = 30.0;
@@ -240,7 +240,7 @@ fn score(
         if let Some(sigma) = gyro_noise {
             // As the tool's verification does: the free run flies the parameters compensated
             // for the gyro noise; a refused compensation leaves the least-squares ones.
-            let _ = Identifier::compensate(&mut id, &sigma);
+            let _ = id.compensate(&sigma);
         }
         for block in &split.check {
             let run = free_run(&id, block, window, FreeRunVelocity::Model);
@@ -354,6 +354,7 @@ pub fn select_terms(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::experiments::Identifier;
 
     #[test]
     fn masks_name_their_terms_and_read_back_from_parameters() {

@@ -3,32 +3,21 @@
 
 use rotorid::hover::{
     GainSearch, HoverConfig, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, Observer,
-    Premise, StateModel, StepOutput,
+    Premise, StateModel,
 };
 use rotorid::membership::MembershipFunction;
-use rotorid::rls::{Algorithm, Compensation, RlsState};
+use rotorid::rls::{Algorithm, RlsState};
 use rotorid::snapshot::Snapshot;
+use rotorid::DynIdentifier;
 use serde::{Deserialize, Serialize};
 
 use super::error::ParametersError;
 
-/// What the experiments need of an identifier: the core's [`HoverIdentifier`] API for `f32`,
-/// object-safe, plus parameter export/import as plain data. Implemented for every
-/// `HoverIdentifier<f32, …>` whose models hold [`RlsState`]s.
-pub trait Identifier {
-    /// [`HoverIdentifier::step`]: learn from the previous sample to this one, predict the next.
-    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error>;
-    /// [`HoverIdentifier::predict`]: one-step prediction with frozen θ.
-    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
-    /// One-step prediction given the state of the sample before (see
-    /// [`HoverIdentifier::predict_after`]).
-    fn predict_after(
-        &self,
-        before: Option<&HoverState<f32>>,
-        sample: &HoverSample<f32>,
-    ) -> Result<HoverState<f32>, rotorid::Error>;
-    /// [`HoverIdentifier::resume`]: restart the sample chain (after a gap).
-    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error>;
+/// What the experiments need of an identifier: the core's dyn-compatible [`DynIdentifier`]
+/// (step, prediction, resume, compensation, snapshots) and, on top of it, what needs `std` or
+/// the observer: a boxed copy, parameters as plain data, observer predictions. Implemented for
+/// every `HoverIdentifier<f32, …>` whose models hold [`RlsState`]s.
+pub trait Identifier: DynIdentifier {
     /// A boxed copy (to verify a still-adapting copy next to the frozen one).
     fn boxed_clone(&self) -> Box<dyn Identifier>;
     /// θ and covariance factor of the four models (velocity, q̂, r̂, p̂), for warm start.
@@ -38,13 +27,12 @@ pub trait Identifier {
     /// What was learnt in the core's one saved-state format ([`rotorid::snapshot`]: the C
     /// interface's export, the link's and the firmware's) under the kind code `kind`
     /// ([`rotorid::snapshot::KindCode`]).
-    fn snapshot(&self, kind: u32) -> Vec<u8>;
-    /// Warm start from a [`snapshot`](Self::snapshot) of kind `kind` (kind, length, CRC and
-    /// every value checked first); on `Err` nothing changed.
-    fn read_snapshot(&mut self, kind: u32, bytes: &[u8]) -> Result<(), rotorid::Error>;
-    /// [`HoverIdentifier::compensate`]: the parameters for a simulation, compensated for the
-    /// gyros' white noise σ `[q r p]` (deg/s).
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error>;
+    fn snapshot(&self, kind: u32) -> Vec<u8> {
+        let mut bytes = vec![0; self.snapshot_size()];
+        // The buffer has the identifier's own snapshot length: writing cannot fail.
+        let _ = self.write_snapshot(kind, &mut bytes);
+        bytes
+    }
     /// [`Observer::predict`] with this identifier's parameters.
     fn observe(
         &self,
@@ -275,32 +263,8 @@ where
     P::State: ModelStateIo,
     Self: Snapshot,
 {
-    fn step(&mut self, sample: &HoverSample<f32>) -> Result<StepOutput<f32>, rotorid::Error> {
-        HoverIdentifier::step(self, sample)
-    }
-
-    fn predict(&self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
-        HoverIdentifier::predict(self, sample)
-    }
-
-    fn predict_after(
-        &self,
-        before: Option<&HoverState<f32>>,
-        sample: &HoverSample<f32>,
-    ) -> Result<HoverState<f32>, rotorid::Error> {
-        HoverIdentifier::predict_after(self, before, sample)
-    }
-
-    fn resume(&mut self, sample: &HoverSample<f32>) -> Result<HoverState<f32>, rotorid::Error> {
-        HoverIdentifier::resume(self, sample)
-    }
-
     fn boxed_clone(&self) -> Box<dyn Identifier> {
         Box::new(self.clone())
-    }
-
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, rotorid::Error> {
-        HoverIdentifier::compensate(self, gyro_noise)
     }
 
     fn observe(
@@ -359,17 +323,6 @@ where
             roll: P::State::from_parameters(find(MODEL_NAMES[3])?)?,
         };
         self.import(&snapshot).map_err(ParametersError::Rejected)
-    }
-
-    fn snapshot(&self, kind: u32) -> Vec<u8> {
-        let mut bytes = vec![0; Self::SNAPSHOT_SIZE];
-        // The buffer has the type's own length: writing cannot fail.
-        let _ = self.write_snapshot(kind, &mut bytes);
-        bytes
-    }
-
-    fn read_snapshot(&mut self, kind: u32, bytes: &[u8]) -> Result<(), rotorid::Error> {
-        Snapshot::read_snapshot(self, kind, bytes)
     }
 }
 

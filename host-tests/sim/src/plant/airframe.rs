@@ -191,9 +191,24 @@ impl StickScale {
     }
 }
 
-/// Steady response of `p` at hover per unit of each stick: vertical speed (m/s, up), yaw rate,
-/// pitch rate, roll rate (rad/s), as a [`StickScale`]-shaped record. See [`StickScale`].
-pub fn steady_response_per_stick(p: &Helicopter) -> Result<StickScale, PlantError> {
+/// The heave and yaw derivatives of a helicopter at hover trim, by central differences of the
+/// simulator's state derivative ([`derivative`]) in body axes (z down). Heave and yaw do not go
+/// through the flapping, so a quasi-steady model (`rotorid identify`'s derivatives) must find
+/// them; roll and pitch have no such one-number truth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeaveYawDerivatives {
+    /// `Z_w`: vertical acceleration per vertical speed (1/s).
+    pub z_w: f64,
+    /// `Z_col`: vertical acceleration per unit collective stick (m/s² per unit stick).
+    pub z_col: f64,
+    /// `N_r`: yaw acceleration per yaw rate (1/s).
+    pub n_r: f64,
+    /// `N_ped`: yaw acceleration per unit pedal stick (rad/s² per unit stick).
+    pub n_ped: f64,
+}
+
+/// [`HeaveYawDerivatives`] of `p` at hover trim.
+pub fn heave_and_yaw_at_hover(p: &Helicopter) -> Result<HeaveYawDerivatives, PlantError> {
     let trim = trim_hover(p, 0.0)?;
     let h = LINEARISATION_STEP;
     let accel = |sticks: &Sticks, state: &State| {
@@ -218,11 +233,23 @@ pub fn steady_response_per_stick(p: &Helicopter) -> Result<StickScale, PlantErro
     let (_, n_ped) = stick_slope(Channel::Ped);
     let (z_w, _) = state_slope(|s, d| s.vel_body.z += d);
     let (_, n_r) = state_slope(|s, d| s.omega.z += d);
+    Ok(HeaveYawDerivatives {
+        z_w,
+        z_col,
+        n_r,
+        n_ped,
+    })
+}
+
+/// Steady response of `p` at hover per unit of each stick: vertical speed (m/s, up), yaw rate,
+/// pitch rate, roll rate (rad/s), as a [`StickScale`]-shaped record. See [`StickScale`].
+pub fn steady_response_per_stick(p: &Helicopter) -> Result<StickScale, PlantError> {
+    let d = heave_and_yaw_at_hover(p)?;
     let tau = p.tau_e();
     Ok(StickScale {
         // Body z is down: a collective that accelerates up (Z_col < 0) climbs.
-        col: z_col / z_w,
-        ped: -n_ped / n_r,
+        col: d.z_col / d.z_w,
+        ped: -d.n_ped / d.n_r,
         lon: p.a_lon * p.sticks.lon_gain / tau,
         lat: p.b_lat * p.sticks.lat_gain / tau,
     })

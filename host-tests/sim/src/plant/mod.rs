@@ -34,7 +34,9 @@ pub mod variation;
 
 use serde::{Deserialize, Serialize};
 
-pub use airframe::{steady_response_per_stick, Airframe, StickScale};
+pub use airframe::{
+    heave_and_yaw_at_hover, steady_response_per_stick, Airframe, HeaveYawDerivatives, StickScale,
+};
 pub use dynamics::{derivative, rk4_step, Aero, BladePitch, State, StateDot};
 pub use flight::{
     simulate, verification_excitation, verification_excitation_scaled, Excitation, Flight,
