@@ -1,6 +1,7 @@
 //! The calls on a prepared identifier: step, predict, resume, reset, info, export, import.
 
-use rotorid::{Error, HoverSample, HoverState, Quantity};
+use rotorid::hover::{AnyAttitude, AttitudeInput};
+use rotorid::{DynIdentifier, Error, HoverSample, HoverState, Quantity};
 
 use crate::error::*;
 use crate::handle::{ident, ident_mut, kind_of, rotorid_ident_t};
@@ -31,19 +32,7 @@ pub unsafe extern "C" fn rotorid_step(
     error: *mut rotorid_error_t,
 ) -> i32 {
     // SAFETY: the caller's contract.
-    unsafe {
-        let result = (|| {
-            let sample = get(sample)?;
-            if out.is_null() {
-                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
-            }
-            // The handle before the sample's form: a damaged handle is always NOT_INITIALISED.
-            let id = ident_mut(h)?;
-            let o = id.step(&HoverSample::try_from(&sample)?)?;
-            put(out, rotorid_step_output_t::from(o))
-        })();
-        report(result, error)
-    }
+    unsafe { step_with::<AnyAttitude<f32>, _>(|| ident_mut(h), sample, out, error) }
 }
 
 /// One-step prediction of the state after `sample` with the current parameters; changes
@@ -100,14 +89,67 @@ pub unsafe extern "C" fn rotorid_resume(
     error: *mut rotorid_error_t,
 ) -> i32 {
     // SAFETY: the caller's contract.
+    unsafe { resume_with::<AnyAttitude<f32>, _>(|| ident_mut(h), sample, out, error) }
+}
+
+/// The body of `rotorid_step` and of every `rotorid_lean_step_<kind>`: reads the sample,
+/// checks `out`, finds the identifier (`find`: before the sample's attitude form is read, so
+/// that a damaged handle is always NOT_INITIALISED), converts the sample to the form `A` the
+/// identifier takes, steps, writes `out`, and reports.
+///
+/// # Safety
+/// As `rotorid_step`; `find` only dereferences a handle the caller's contract covers.
+pub(crate) unsafe fn step_with<'a, A, I>(
+    find: impl FnOnce() -> Result<&'a mut I, rotorid_error_t>,
+    sample: *const rotorid_sample_t,
+    out: *mut rotorid_step_output_t,
+    error: *mut rotorid_error_t,
+) -> i32
+where
+    A: AttitudeInput<f32>,
+    I: DynIdentifier<A> + ?Sized + 'a,
+    for<'s> HoverSample<f32, A>: TryFrom<&'s rotorid_sample_t, Error = rotorid_error_t>,
+{
+    // SAFETY: the caller's contract.
     unsafe {
         let result = (|| {
             let sample = get(sample)?;
             if out.is_null() {
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
-            let id = ident_mut(h)?;
-            let p = id.resume(&HoverSample::try_from(&sample)?)?;
+            let id = find()?;
+            let o = id.step(&HoverSample::<f32, A>::try_from(&sample)?)?;
+            put(out, rotorid_step_output_t::from(o))
+        })();
+        report(result, error)
+    }
+}
+
+/// The body of `rotorid_resume` and of every `rotorid_lean_resume_<kind>`, as
+/// [`step_with`]'s.
+///
+/// # Safety
+/// As `rotorid_resume`; `find` as in [`step_with`].
+pub(crate) unsafe fn resume_with<'a, A, I>(
+    find: impl FnOnce() -> Result<&'a mut I, rotorid_error_t>,
+    sample: *const rotorid_sample_t,
+    out: *mut rotorid_state_t,
+    error: *mut rotorid_error_t,
+) -> i32
+where
+    A: AttitudeInput<f32>,
+    I: DynIdentifier<A> + ?Sized + 'a,
+    for<'s> HoverSample<f32, A>: TryFrom<&'s rotorid_sample_t, Error = rotorid_error_t>,
+{
+    // SAFETY: the caller's contract.
+    unsafe {
+        let result = (|| {
+            let sample = get(sample)?;
+            if out.is_null() {
+                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
+            }
+            let id = find()?;
+            let p = id.resume(&HoverSample::<f32, A>::try_from(&sample)?)?;
             put(out, p.into())
         })();
         report(result, error)
