@@ -547,30 +547,6 @@ impl Onboard {
         }
     }
 
-    /// Copies what the active pair learnt into `twin` (another firmware, reset to the same
-    /// pair and form): each identifier's export, checked bit for bit against the host's, is
-    /// imported there and into `twin`'s host copy. Both chains restart, so `twin` continues
-    /// exactly as this firmware would from its next `Resume`.
-    pub fn copy_learnt_into(&mut self, twin: &mut Onboard) -> Result<(), OnboardError> {
-        for ident in [Ident::Fuzzy, Ident::Plain] {
-            let bytes = self.export(ident)?;
-            if bytes != self.mirror.export(ident) {
-                return Err(OnboardError::Protocol(format!(
-                    "the {ident:?} export differs from the host's"
-                )));
-            }
-            if let Err(reason) = twin.import(ident, &bytes, msg::stream_crc(&bytes))? {
-                return Err(OnboardError::Protocol(format!(
-                    "the twin refused the {ident:?} import (Nack reason {reason})"
-                )));
-            }
-            twin.mirror
-                .import(ident, &bytes)
-                .map_err(OnboardError::Core)?;
-        }
-        Ok(())
-    }
-
     /// Sends an import stream in `ImportChunk`s; returns the firmware's answer to each chunk
     /// (`Ok(())` for Ack, `Err(reason)` for Nack). Stops at the first Nack.
     pub fn import(

@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use host_tests::firmware_link::LinkError;
 use host_tests::onboard::{Onboard, OnboardError};
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressStyle};
 use rotorid::hover::HoverSample;
 use rotorid::HoverState;
 use rotorid_cli::error_chain::Chain;
@@ -124,13 +124,8 @@ fn boot(pair: IdentPair, samples: usize) -> Result<Onboard, DemoError> {
 }
 
 /// Streams `msgs` under a progress bar; any difference from the host is a FAIL.
-fn stream(
-    ob: &mut Onboard,
-    msgs: &[SampleMsg],
-    what: &str,
-    bars: &MultiProgress,
-) -> Result<Vec<Estimate>, DemoError> {
-    let pb = bars.add(bar(msgs.len(), what));
+fn stream(ob: &mut Onboard, msgs: &[SampleMsg], what: &str) -> Result<Vec<Estimate>, DemoError> {
+    let pb = bar(msgs.len(), what);
     let r = ob.stream(msgs, |n| pb.set_position(n as u64));
     pb.finish();
     let r = r.map_err(DemoError::Verdict)?;
@@ -285,19 +280,8 @@ fn run() -> Result<(), DemoError> {
         ver.len()
     );
     let mut ob = boot(IdentPair::Flight, learn.len() + one.len() + free.len())?;
-    let learned = stream(
-        &mut ob,
-        &learn,
-        "identification (learning)",
-        &MultiProgress::new(),
-    )?;
-    // The two verification passes need the same learnt θ and nothing from each other: a
-    // second firmware (QEMU's serial link, not the CPU, sets the pace) takes the learnt
-    // state through the link's export and import and runs the free run beside the one step.
-    println!("  copying the learnt state to a second firmware over the link (export, import), to verify in parallel...");
-    let mut twin = Onboard::boot(RlsForm::UdDefault, false)?;
-    twin.reset_pair(RlsForm::UdDefault, IdentPair::Flight)?;
-    ob.copy_learnt_into(&mut twin)?;
+    let learned = stream(&mut ob, &learn, "identification (learning)")?;
+    let one_est = stream(&mut ob, &one, "verification, one step")?;
     // The free run uses the parameters compensated for the gyros' noise, estimated from the
     // identification flight as `rotorid identify --gyro-noise auto` does.
     let gyro_noise = gyro_noise_of(std::slice::from_ref(&id));
@@ -306,21 +290,10 @@ fn run() -> Result<(), DemoError> {
             "  compensating onboard for the gyro noise σ̂ = {:.3}, {:.3}, {:.3} deg/s (q, r, p; from the identification flight)",
             sigma[0], sigma[1], sigma[2]
         );
-        twin.compensate(sigma)?;
+        ob.compensate(sigma)?;
     }
-    let bars = MultiProgress::new();
-    let (one_est, free_est) = std::thread::scope(|s| {
-        let one_step = s.spawn(|| stream(&mut ob, &one, "verification, one step", &bars));
-        let free_run = stream(&mut twin, &free, "verification, free run", &bars);
-        let one_step = one_step.join().unwrap_or_else(|_| {
-            Err(DemoError::Verdict(OnboardError::Protocol(
-                "the one-step thread panicked".into(),
-            )))
-        });
-        (one_step, free_run)
-    });
-    let (one_est, free_est) = (one_est?, free_est?);
-    let stats = [ob.link.stats()?, twin.link.stats()?];
+    let free_est = stream(&mut ob, &free, "verification, free run")?;
+    let stats = ob.link.stats()?;
     let rejected = learned
         .iter()
         .filter(|e| e.fuzzy.error.is_some() || e.plain.error.is_some())
@@ -449,22 +422,12 @@ fn paper() -> Result<(), DemoError> {
         ver.len()
     );
     let mut ob = boot(IdentPair::Paper, id.len() + ver.len())?;
-    let learned = stream(
-        &mut ob,
-        &learn_messages(&id),
-        "identification (learning)",
-        &MultiProgress::new(),
-    )?;
+    let learned = stream(&mut ob, &learn_messages(&id), "identification (learning)")?;
     let rejected = learned.iter().filter(|e| e.fuzzy.error.is_some()).count();
 
     // Verification: θ frozen; the first sample starts the chain, every sample is predicted.
     let verify = one_step_messages(&ver);
-    let verified = stream(
-        &mut ob,
-        &verify,
-        "verification (frozen θ)",
-        &MultiProgress::new(),
-    )?;
+    let verified = stream(&mut ob, &verify, "verification (frozen θ)")?;
     // Final parameters and exported state, compared with the host too.
     for ident in [Ident::Fuzzy, Ident::Plain] {
         let fw = ob.params(ident)?;
@@ -477,7 +440,7 @@ fn paper() -> Result<(), DemoError> {
             return Err(DemoError::Export(ident));
         }
     }
-    let stats = [ob.link.stats()?];
+    let stats = ob.link.stats()?;
 
     let preds = |f: fn(&Estimate) -> &[f32; 6]| -> Vec<HoverState<f32>> {
         verified.iter().map(|e| state(f(e))).collect()
@@ -501,15 +464,13 @@ fn paper() -> Result<(), DemoError> {
     Ok(())
 }
 
-/// The links' counters (one firmware, or two side by side) and the run time.
-fn print_link(stats: &[rotorid_link::msg::StatsReport], rejected: usize, t0: Instant) {
-    let sum = |f: &dyn Fn(&rotorid_link::msg::StatsReport) -> u64| stats.iter().map(f).sum::<u64>();
+/// The link's counters and the run time.
+fn print_link(stats: &rotorid_link::msg::StatsReport, rejected: usize, t0: Instant) {
     println!(
-        "link: {} frames received by the firmware{}, {} rejected, {} lost; {} samples rejected by the core",
-        sum(&|s| u64::from(s.link.frames_ok)),
-        if stats.len() > 1 { "s" } else { "" },
-        sum(&|s| u64::from(s.link.rejected())),
-        sum(&|s| u64::from(s.link.lost_frames)),
+        "link: {} frames received by the firmware, {} rejected, {} lost; {} samples rejected by the core",
+        stats.link.frames_ok,
+        stats.link.rejected(),
+        stats.link.lost_frames,
         rejected
     );
     println!("done in {:.1?}", t0.elapsed());
