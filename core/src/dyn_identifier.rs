@@ -64,6 +64,18 @@ pub trait DynIdentifier<A: AttitudeInput<f32> = Attitude<f32>> {
 
     /// [`Snapshot::config_hash`]: the hash of what a snapshot must match to be read back.
     fn config_hash(&self) -> u32;
+
+    /// With the `std` feature: the snapshot of kind code `kind` in a new `Vec`, for host
+    /// programs that keep or send it: [`write_snapshot`](Self::write_snapshot) into a buffer
+    /// of [`snapshot_size`](Self::snapshot_size) bytes, cut to the length written (which for
+    /// the core's identifiers is that size: they cannot fail here).
+    #[cfg(feature = "std")]
+    fn snapshot_vec(&self, kind: u32) -> Result<std::vec::Vec<u8>, WriteError> {
+        let mut out = std::vec![0u8; self.snapshot_size()];
+        let n = self.write_snapshot(kind, &mut out)?;
+        out.truncate(n);
+        Ok(out)
+    }
 }
 
 impl<A, V, Q, R, P> DynIdentifier<A> for HoverIdentifier<f32, V, Q, R, P>
@@ -173,5 +185,21 @@ mod tests {
         let mut again = [0u8; FlightIdentifier::<f32>::SNAPSHOT_SIZE];
         any[0].write_snapshot(kind, &mut again).unwrap();
         assert_eq!(again, own);
+    }
+
+    /// `snapshot_vec` gives the bytes `write_snapshot` writes, at the snapshot's size.
+    #[cfg(feature = "std")]
+    #[test]
+    fn a_snapshot_vec_is_the_written_snapshot() {
+        let mut flight =
+            FlightIdentifier::<f32>::flight(HoverConfig::default(), crate::flight_sets()).unwrap();
+        for k in 0..50 {
+            HoverIdentifier::step(&mut flight, &sample(k)).unwrap();
+        }
+        let kind = FlightIdentifier::<f32>::KIND;
+        let mut own = [0u8; FlightIdentifier::<f32>::SNAPSHOT_SIZE];
+        Snapshot::write_snapshot(&flight, kind, &mut own).unwrap();
+        let any: &dyn DynIdentifier<AnyAttitude<f32>> = &flight;
+        assert_eq!(any.snapshot_vec(kind).unwrap(), own);
     }
 }

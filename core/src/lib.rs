@@ -4,7 +4,8 @@
 // No panic path: the workspace's lints (Cargo.toml) fail clippy and CI on any unwrap, expect,
 // panic or unchecked index outside the tests.
 
-// The `std` feature links std for its conveniences only (`From<Error> for std::io::Error`).
+// The `std` feature links std for its conveniences only (`From<Error> for std::io::Error`,
+// `DynIdentifier::snapshot_vec`).
 #[cfg(feature = "std")]
 extern crate std;
 

@@ -13,9 +13,8 @@ use std::collections::VecDeque;
 use std::fmt;
 
 use rotorid::hover::{flight_sets, HoverSample};
-use rotorid::snapshot::Snapshot;
 use rotorid::{
-    ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
+    DynIdentifier, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,
 };
 use rotorid_link::msg::{
@@ -260,6 +259,26 @@ fn summary<const N: usize, const NP: usize>(r: &rotorid::rls::Rls<f32, N, NP>) -
 }
 
 impl Mirror {
+    /// `ident` of the active pair.
+    fn selected(&self, ident: Ident) -> &dyn DynIdentifier {
+        match (self.pair, ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => &self.flight,
+            (IdentPair::Flight, _) => &self.extended_plain,
+            (_, Ident::Fuzzy) => &self.fuzzy,
+            (_, _) => &self.plain,
+        }
+    }
+
+    /// `ident` of the active pair, to change.
+    fn selected_mut(&mut self, ident: Ident) -> &mut dyn DynIdentifier {
+        match (self.pair, ident) {
+            (IdentPair::Flight, Ident::Fuzzy) => &mut self.flight,
+            (IdentPair::Flight, _) => &mut self.extended_plain,
+            (_, Ident::Fuzzy) => &mut self.fuzzy,
+            (_, _) => &mut self.plain,
+        }
+    }
+
     /// What `ParamsRequest{ident}` dumps.
     pub fn params(&self, ident: Ident) -> Params {
         match ident {
@@ -288,19 +307,9 @@ impl Mirror {
     /// pair under its kind code ([`msg::snapshot_kind`]), the bytes the C interface's
     /// `rotorid_export` writes for the same identifier.
     pub fn export(&self, ident: Ident) -> Vec<u8> {
-        fn bytes<I: Snapshot>(id: &I, kind: u32) -> Vec<u8> {
-            let mut out = vec![0u8; I::SNAPSHOT_SIZE];
-            // The buffer is the snapshot's size: cannot be too short.
-            let _ = id.write_snapshot(kind, &mut out);
-            out
-        }
         let kind = msg::snapshot_kind(self.pair, ident);
-        match (self.pair, ident) {
-            (IdentPair::Flight, Ident::Fuzzy) => bytes(&self.flight, kind),
-            (IdentPair::Flight, _) => bytes(&self.extended_plain, kind),
-            (_, Ident::Fuzzy) => bytes(&self.fuzzy, kind),
-            (_, _) => bytes(&self.plain, kind),
-        }
+        // The buffer is sized from the identifier: a core identifier cannot fail it.
+        self.selected(ident).snapshot_vec(kind).unwrap_or_default()
     }
 
     /// What a complete `ImportChunk` stream of `bytes` does to `ident` of the active pair:
@@ -308,12 +317,7 @@ impl Mirror {
     /// prediction chain restarts.
     pub fn import(&mut self, ident: Ident, bytes: &[u8]) -> Result<(), rotorid::Error> {
         let kind = msg::snapshot_kind(self.pair, ident);
-        let r = match (self.pair, ident) {
-            (IdentPair::Flight, Ident::Fuzzy) => self.flight.read_snapshot(kind, bytes),
-            (IdentPair::Flight, _) => self.extended_plain.read_snapshot(kind, bytes),
-            (_, Ident::Fuzzy) => self.fuzzy.read_snapshot(kind, bytes),
-            (_, _) => self.plain.read_snapshot(kind, bytes),
-        };
+        let r = self.selected_mut(ident).read_snapshot(kind, bytes);
         if r.is_ok() {
             match ident {
                 Ident::Fuzzy => self.fuzzy_chain = SampleChain::new(),

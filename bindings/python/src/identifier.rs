@@ -87,10 +87,7 @@ fn state(s: &HoverState<f32>) -> [f32; 6] {
 
 impl Any {
     fn export(&self) -> Option<Vec<u8>> {
-        let mut out = vec![0u8; self.id.snapshot_size()];
-        let n = self.id.write_snapshot(self.code, &mut out).ok()?;
-        out.truncate(n);
-        Some(out)
+        self.id.snapshot_vec(self.code).ok()
     }
     fn import(&mut self, bytes: &[u8]) -> Result<(), rotorid::Error> {
         self.id.read_snapshot(self.code, bytes)

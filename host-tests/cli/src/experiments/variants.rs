@@ -28,10 +28,9 @@ pub trait Identifier: DynIdentifier {
     /// interface's export, the link's and the firmware's) under the kind code `kind`
     /// ([`rotorid::snapshot::KindCode`]).
     fn snapshot(&self, kind: u32) -> Vec<u8> {
-        let mut bytes = vec![0; self.snapshot_size()];
-        // The buffer has the identifier's own snapshot length: writing cannot fail.
-        let _ = self.write_snapshot(kind, &mut bytes);
-        bytes
+        // `DynIdentifier::snapshot_vec` sizes the buffer from the identifier: the core's
+        // identifiers (the only ones here) cannot fail it.
+        self.snapshot_vec(kind).unwrap_or_default()
     }
     /// [`Observer::predict`] with this identifier's parameters.
     fn observe(
