@@ -111,18 +111,7 @@ where
     for<'s> HoverSample<f32, A>: TryFrom<&'s rotorid_sample_t, Error = rotorid_error_t>,
 {
     // SAFETY: the caller's contract.
-    unsafe {
-        let result = (|| {
-            let sample = get(sample)?;
-            if out.is_null() {
-                return Err(rotorid_error_t::interface(ROTORID_E_NULL));
-            }
-            let id = find()?;
-            let o = id.step(&HoverSample::<f32, A>::try_from(&sample)?)?;
-            put(out, rotorid_step_output_t::from(o))
-        })();
-        report(result, error)
-    }
+    unsafe { with_sample(find, sample, out, error, |id, s| Ok(id.step(s)?.into())) }
 }
 
 /// The body of `rotorid_resume` and of every `rotorid_lean_resume_<kind>`, as
@@ -142,6 +131,28 @@ where
     for<'s> HoverSample<f32, A>: TryFrom<&'s rotorid_sample_t, Error = rotorid_error_t>,
 {
     // SAFETY: the caller's contract.
+    unsafe { with_sample(find, sample, out, error, |id, s| Ok(id.resume(s)?.into())) }
+}
+
+/// What [`step_with`] and [`resume_with`] share: reads the sample, checks `out`, finds the
+/// identifier, converts the sample to the form `A`, runs `call`, writes its answer to `out`,
+/// and reports. Nothing is written but `*error` when any part fails.
+///
+/// # Safety
+/// As `rotorid_step`, with `out` valid for a write of `O`; `find` as in [`step_with`].
+unsafe fn with_sample<'a, A, I, O>(
+    find: impl FnOnce() -> Result<&'a mut I, rotorid_error_t>,
+    sample: *const rotorid_sample_t,
+    out: *mut O,
+    error: *mut rotorid_error_t,
+    call: impl FnOnce(&mut I, &HoverSample<f32, A>) -> Result<O, rotorid_error_t>,
+) -> i32
+where
+    A: AttitudeInput<f32>,
+    I: ?Sized + 'a,
+    for<'s> HoverSample<f32, A>: TryFrom<&'s rotorid_sample_t, Error = rotorid_error_t>,
+{
+    // SAFETY: the caller's contract.
     unsafe {
         let result = (|| {
             let sample = get(sample)?;
@@ -149,8 +160,8 @@ where
                 return Err(rotorid_error_t::interface(ROTORID_E_NULL));
             }
             let id = find()?;
-            let p = id.resume(&HoverSample::<f32, A>::try_from(&sample)?)?;
-            put(out, p.into())
+            let answer = call(id, &HoverSample::<f32, A>::try_from(&sample)?)?;
+            put(out, answer)
         })();
         report(result, error)
     }
