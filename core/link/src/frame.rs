@@ -3,9 +3,9 @@
 use core::fmt;
 
 use crate::cobs_decode::cobs_decode_in_place;
-use crate::{LinkStats, SeqTracker};
+use crate::stats::{LinkStats, SeqTracker};
 
-use super::{
+use crate::wire::{
     CRC, CRC_LEN, DELIMITER, HEADER_LEN, MAX_ENCODED_LEN, MAX_PAYLOAD, MAX_RAW_LEN, MIN_RAW_LEN,
     VERSION,
 };
@@ -15,7 +15,7 @@ use super::{
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum EncodeError {
-    /// The payload is longer than [`MAX_PAYLOAD`](super::MAX_PAYLOAD) bytes.
+    /// The payload is longer than [`MAX_PAYLOAD`](crate::wire::MAX_PAYLOAD) bytes.
     PayloadTooLarge {
         /// Payload length that was asked for, in bytes.
         len: usize,
@@ -71,6 +71,20 @@ pub enum FrameError {
     },
 }
 
+impl FrameError {
+    /// Counts this rejected chunk under its kind in `stats`.
+    fn count_in(self, stats: &mut LinkStats) {
+        let c = match self {
+            Self::Cobs => &mut stats.cobs_errors,
+            Self::Crc => &mut stats.crc_errors,
+            Self::TooShort { .. } => &mut stats.too_short,
+            Self::Oversized => &mut stats.oversized,
+            Self::UnknownVersion { .. } => &mut stats.unknown_version,
+        };
+        *c = c.wrapping_add(1);
+    }
+}
+
 impl fmt::Display for FrameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -100,14 +114,14 @@ pub struct Frame<'a> {
     pub msg_type: u8,
     /// Sender's sequence number (wrapping, one counter per direction).
     pub seq: u16,
-    /// Payload, at most [`MAX_PAYLOAD`](super::MAX_PAYLOAD) bytes.
+    /// Payload, at most [`MAX_PAYLOAD`](crate::wire::MAX_PAYLOAD) bytes.
     pub payload: &'a [u8],
 }
 
 /// Writes the raw frame (header, payload, CRC) through COBS into `out`, then one delimiter.
 ///
 /// Returns the number of bytes written (the wire length, delimiter included). The output is
-/// exactly [`wire_len`](super::wire_len)`(payload.len())` bytes long.
+/// exactly [`wire_len`](crate::wire::wire_len)`(payload.len())` bytes long.
 pub fn encode_frame(
     msg_type: u8,
     seq: u16,
@@ -117,7 +131,7 @@ pub fn encode_frame(
     if payload.len() > MAX_PAYLOAD {
         return Err(EncodeError::PayloadTooLarge { len: payload.len() });
     }
-    let needed = super::wire_len(payload.len());
+    let needed = crate::wire::wire_len(payload.len());
     if out.len() < needed {
         return Err(EncodeError::BufferTooSmall {
             needed,
@@ -154,7 +168,7 @@ pub fn encode_frame_vec<const N: usize>(
     out: &mut heapless::Vec<u8, N>,
 ) -> Result<(), EncodeError> {
     out.clear();
-    let needed = super::wire_len(payload.len().min(MAX_PAYLOAD));
+    let needed = crate::wire::wire_len(payload.len().min(MAX_PAYLOAD));
     if out.resize(needed.min(N), 0).is_err() {
         // Unreachable: the length is clamped to the capacity.
         return Err(EncodeError::BufferTooSmall {
@@ -326,7 +340,7 @@ impl<const N: usize> FrameDecoder<N> {
     fn finish_chunk(&mut self) -> Result<Frame<'_>, FrameError> {
         let len = core::mem::take(&mut self.len);
         if core::mem::take(&mut self.overflow) {
-            self.stats.count_error(FrameError::Oversized);
+            FrameError::Oversized.count_in(&mut self.stats);
             return Err(FrameError::Oversized);
         }
         match Self::check(self.buf.get_mut(..len).unwrap_or_default()) {
@@ -340,7 +354,7 @@ impl<const N: usize> FrameDecoder<N> {
                 })
             }
             Err(e) => {
-                self.stats.count_error(e);
+                e.count_in(&mut self.stats);
                 Err(e)
             }
         }
@@ -403,8 +417,8 @@ impl<const N: usize> FrameDecoder<N> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{wire_len, MAX_WIRE_LEN};
     use super::*;
+    use crate::wire::{wire_len, MAX_WIRE_LEN};
 
     fn wire(msg_type: u8, seq: u16, payload: &[u8]) -> heapless::Vec<u8, MAX_WIRE_LEN> {
         let mut v = heapless::Vec::new();

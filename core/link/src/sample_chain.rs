@@ -14,7 +14,7 @@
 use rotorid::hover::{HoverIdentifier, HoverSample, HoverState, StateModel};
 use rotorid::Error;
 
-use crate::msg::{SampleMode, SampleMsg};
+use crate::msg::ident::{SampleMode, SampleMsg};
 
 /// A prediction and the state it started from.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,8 +3,6 @@
 //! Framing-level: the counters know frame errors, not messages (the catalogue's `Stats`
 //! message carries them; see `msg::link`).
 
-use crate::FrameError;
-
 /// Counters of one receiving direction of a link. All counters wrap at `u32::MAX`.
 ///
 /// Every delimiter-terminated, non-empty chunk of bytes ends up in exactly one of
@@ -80,18 +78,6 @@ impl LinkStats {
             seq_resets,
             bytes,
         }
-    }
-
-    /// Counts one rejected chunk under its kind.
-    pub(crate) fn count_error(&mut self, e: FrameError) {
-        let c = match e {
-            FrameError::Cobs => &mut self.cobs_errors,
-            FrameError::Crc => &mut self.crc_errors,
-            FrameError::TooShort { .. } => &mut self.too_short,
-            FrameError::Oversized => &mut self.oversized,
-            FrameError::UnknownVersion { .. } => &mut self.unknown_version,
-        };
-        *c = c.wrapping_add(1);
     }
 }
 

@@ -1,9 +1,9 @@
-//! The lossless wire form of `rotorid`'s [`Error`] (inside [`IdOutput`](super::IdOutput)).
+//! The lossless wire form of `rotorid`'s [`Error`] (inside [`IdOutput`](super::ident::IdOutput)).
 //!
 //! 28 bytes: a code per error kind, a detail code per [`Quantity`] or [`ConfigError`], an
 //! index and three u64 arguments. Only the canonical encoding (unused fields zero) reads back.
 
-use crate::{Field, PayloadError, Reader, Writer};
+use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::error::{ConfigError, Error, Quantity, SampleField};
 
 /// Bytes of an encoded [`Error`] (see [`write_error`]).

@@ -1,7 +1,7 @@
 //! Identification messages: samples in, estimates out, and the requests about the onboard
 //! identifiers (reset, parameter dump, export).
 
-use crate::{Field, PayloadError, Reader, Writer};
+use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::error::Error;
 use rotorid::hover::{Attitude, Controls, HoverSample};
 
@@ -96,7 +96,7 @@ impl IdOutput {
 /// An output travels as: error (28 B), flags u8 (bit 0: innovation present), prediction
 /// 6 × f32, innovation 6 × f32 (zeros when absent), ticks u32.
 impl Field for IdOutput {
-    const LEN: usize = super::ERROR_LEN + 1 + 2 * 6 * 4 + 4;
+    const LEN: usize = super::errors::ERROR_LEN + 1 + 2 * 6 * 4 + 4;
     fn put(&self, w: &mut Writer<'_>) -> Result<(), PayloadError> {
         self.error.put(w)?;
         w.put_u8(u8::from(self.innovation.is_some()))?;
@@ -234,8 +234,8 @@ pub type ExportRequest = IdentRequest;
 
 #[cfg(test)]
 mod tests {
-    use super::super::testing::{rejects_truncated_and_extended, roundtrip};
-    use super::super::Payload;
+    use super::super::message::testing::{rejects_truncated_and_extended, roundtrip};
+    use super::super::message::Payload;
     use super::*;
     use rotorid::error::Quantity;
 
@@ -320,18 +320,18 @@ mod tests {
         };
         let b = roundtrip(&e);
         assert_eq!(b.len(), 171);
-        const { assert!(Estimate::LEN <= crate::MAX_PAYLOAD) };
+        const { assert!(Estimate::LEN <= crate::wire::MAX_PAYLOAD) };
         assert_eq!(Estimate::read(&b), Ok(e));
         rejects_truncated_and_extended::<Estimate>(&b);
         let mut bad = b.clone();
         bad[8] = 9; // mode
         assert!(Estimate::read(&bad).is_err());
         let mut bad = b.clone();
-        bad[9 + crate::msg::ERROR_LEN] = 2; // flags
+        bad[9 + super::super::errors::ERROR_LEN] = 2; // flags
         assert!(Estimate::read(&bad).is_err());
         // Plain has no innovation: a non-zero float there is refused.
         let mut bad = b;
-        bad[9 + IdOutput::LEN + crate::msg::ERROR_LEN + 1 + 24] = 1;
+        bad[9 + IdOutput::LEN + super::super::errors::ERROR_LEN + 1 + 24] = 1;
         assert!(Estimate::read(&bad).is_err());
     }
 

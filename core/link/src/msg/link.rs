@@ -2,15 +2,16 @@
 //!
 //! `Ping`/`Pong` carry raw bytes and `StatsRequest` is empty, so they have no struct here.
 
-use super::{MsgType, Payload};
-use crate::{Field, LinkStats, PayloadError, Reader, Writer};
+use super::message::{MsgType, Payload};
+use crate::payload::{Field, PayloadError, Reader, Writer};
+use crate::stats::LinkStats;
 
 /// Boot announcement (`Hello`, 4 B + name): protocol version u8, max payload u16,
 /// firmware flags u8, then the firmware name as UTF-8 (rest of the payload).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Hello<'a> {
-    /// Protocol version the firmware speaks ([`VERSION`](crate::VERSION)).
+    /// Protocol version the firmware speaks ([`VERSION`](crate::wire::VERSION)).
     pub version: u8,
     /// Largest payload the firmware accepts, in bytes.
     pub max_payload: u16,
@@ -125,7 +126,7 @@ fixed_payload! {
 
 #[cfg(test)]
 mod tests {
-    use super::super::testing::{rejects_truncated_and_extended, roundtrip};
+    use super::super::message::testing::{rejects_truncated_and_extended, roundtrip};
     use super::*;
 
     #[test]

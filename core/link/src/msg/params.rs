@@ -1,8 +1,9 @@
 //! Parameter dumps of the onboard identifiers (`Params`), and the raw estimator-state reader
 //! the fuzz targets feed to the core's import checks.
 
-use super::{Ident, MsgType, Payload};
-use crate::{Field, PayloadError, Reader, Writer};
+use super::ident::Ident;
+use super::message::{MsgType, Payload};
+use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::rls::{Algorithm, RlsState, RlsView};
 
 wire_enum! {
@@ -46,7 +47,7 @@ impl<'a> ParamsChunk<'a> {
     /// Header bytes.
     pub const HEADER: usize = 7;
     /// Most words in one chunk.
-    pub const MAX_WORDS: usize = (crate::MAX_PAYLOAD - Self::HEADER) / 4;
+    pub const MAX_WORDS: usize = (crate::wire::MAX_PAYLOAD - Self::HEADER) / 4;
     /// Words of a [`ParamField::Summary`].
     pub const SUMMARY_WORDS: usize = 5;
 
@@ -145,7 +146,7 @@ pub fn read_rls_state<const N: usize, const NP: usize>(
 #[cfg(test)]
 mod tests {
     extern crate alloc;
-    use super::super::testing::roundtrip;
+    use super::super::message::testing::roundtrip;
     use super::*;
     use alloc::vec::Vec;
 

@@ -21,8 +21,9 @@ use rotorid::{
     ExtendedPlainIdentifier, FlightIdentifier, PaperFuzzyIdentifier, PaperPlainIdentifier,
 };
 
-use super::{Ident, IdentPair, MsgType, Payload};
-use crate::{Field, PayloadError, Reader, Writer};
+use super::ident::{Ident, IdentPair};
+use super::message::{MsgType, Payload};
+use crate::payload::{Field, PayloadError, Reader, Writer};
 
 /// Snapshot kind of the flight default, `FlightIdentifier` (`ROTORID_KIND_FLIGHT`).
 pub const KIND_FLIGHT: u32 = <FlightIdentifier<f32> as KindCode>::KIND;
@@ -72,7 +73,7 @@ impl<'a> DataChunk<'a> {
     /// Header bytes.
     pub const HEADER: usize = 13;
     /// Most data bytes in one chunk.
-    pub const MAX_DATA: usize = crate::MAX_PAYLOAD - Self::HEADER;
+    pub const MAX_DATA: usize = crate::wire::MAX_PAYLOAD - Self::HEADER;
 }
 
 impl<'a> Payload<'a> for DataChunk<'a> {
@@ -115,7 +116,7 @@ impl<'a> Payload<'a> for DataChunk<'a> {
 
 /// CRC-32/ISO-HDLC of a byte stream (the frame CRC), for [`DataChunk::crc`].
 pub fn stream_crc(bytes: &[u8]) -> u32 {
-    crate::CRC.checksum(bytes)
+    crate::wire::CRC.checksum(bytes)
 }
 
 /// A [`WordSink`] that only digests (the first export pass: the stream CRC).
@@ -172,7 +173,7 @@ pub fn export_chunks<I: Snapshot>(
     ident: Ident,
     send: &mut dyn FnMut(&DataChunk<'_>),
 ) {
-    let mut crc = CrcOnly(crate::CRC.digest());
+    let mut crc = CrcOnly(crate::wire::CRC.digest());
     id.put_snapshot(kind, &mut crc);
     let mut chunker = Chunker {
         head: DataChunk {
@@ -290,7 +291,7 @@ impl ImportProgress {
             received: 0,
             total: first.total,
             crc: first.crc,
-            digest: crate::CRC.digest(),
+            digest: crate::wire::CRC.digest(),
         })
     }
 
@@ -339,7 +340,7 @@ impl ImportProgress {
 #[cfg(test)]
 mod tests {
     extern crate alloc;
-    use super::super::testing::roundtrip;
+    use super::super::message::testing::roundtrip;
     use super::*;
     use alloc::vec;
     use alloc::vec::Vec;
@@ -357,7 +358,7 @@ mod tests {
             data: &data,
         };
         let b = roundtrip(&d);
-        assert_eq!(b.len(), crate::MAX_PAYLOAD);
+        assert_eq!(b.len(), crate::wire::MAX_PAYLOAD);
         assert_eq!(DataChunk::read(&b), Ok(d));
         for n in 0..DataChunk::HEADER {
             assert!(DataChunk::read(&b[..n]).is_err());

@@ -1,6 +1,6 @@
 //! The onboard sweep generator: start it, receive its commands.
 
-use crate::{Field, PayloadError, Reader, Writer};
+use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::sweep::Channel;
 
 /// A channel travels as one byte, its index in `[u_col u_ped u_lon u_lat]`.
@@ -59,8 +59,8 @@ fixed_payload! {
 
 #[cfg(test)]
 mod tests {
-    use super::super::testing::{rejects_truncated_and_extended, roundtrip};
-    use super::super::Payload;
+    use super::super::message::testing::{rejects_truncated_and_extended, roundtrip};
+    use super::super::message::Payload;
     use super::*;
 
     #[test]

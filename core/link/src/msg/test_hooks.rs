@@ -86,8 +86,8 @@ fixed_payload! {
 
 #[cfg(test)]
 mod tests {
-    use super::super::testing::{rejects_truncated_and_extended, roundtrip};
-    use super::super::Payload;
+    use super::super::message::testing::{rejects_truncated_and_extended, roundtrip};
+    use super::super::message::Payload;
     use super::*;
 
     #[test]
