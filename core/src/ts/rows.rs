@@ -77,6 +77,22 @@ pub(crate) fn prepare_rows<T: Real, const R: usize, const D: usize, const M: usi
     // One update instead of several (Eq. 27's v_x and v_z), equal in exact arithmetic.
     let mut rows = [[T::zero(); D]; M];
     let mut row_targets = [T::zero(); M];
+    if M == 1 {
+        // One output: nothing to combine. Its row as the loop below makes it: the scaled
+        // terms, or zeros when all are zero (so that a −0 term learns as +0 does there).
+        if let (Some(row), Some(t), Some(st), Some(&y)) = (
+            rows.first_mut(),
+            row_targets.first_mut(),
+            all_terms.first(),
+            scaled.first(),
+        ) {
+            if st.iter().any(|&d| d != T::zero()) {
+                *row = *st;
+            }
+            *t = y;
+        }
+        return finish_rows(strengths, b, scaling, rows, row_targets, 1, innovations);
+    }
     let mut groups = [Group::<T>::default(); M];
     let mut count = 0;
     for (st, &y) in all_terms.iter().zip(scaled.iter()) {
@@ -144,11 +160,25 @@ pub(crate) fn prepare_rows<T: Real, const R: usize, const D: usize, const M: usi
             }
         }
     }
+    finish_rows(strengths, b, scaling, rows, row_targets, count, innovations)
+}
+
+/// The end of [`prepare_rows`]: checks the first row's prior error and assembles the update.
+#[inline(always)]
+fn finish_rows<T: Real, const R: usize, const D: usize, const M: usize>(
+    strengths: [T; R],
+    b: &[T; D],
+    scaling: &Scaling<T, D>,
+    rows: [[T; D]; M],
+    row_targets: [T; M],
+    count: usize,
+    innovations: [T; M],
+) -> Result<Prepared<T, R, D, M>, Error> {
     let first = match (rows.first(), row_targets.first()) {
         (Some(row), Some(&y)) => y - combine(row, b),
         _ => T::zero(),
     };
-    if !within(first, limit) {
+    if !within(first, T::lit(TARGET_LIMIT)) {
         return Err(Error::OutOfRange(Quantity::Target(0)));
     }
     Ok(Prepared {
