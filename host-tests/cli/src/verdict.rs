@@ -189,6 +189,11 @@ pub fn verdict(
             }
         }
     }
+    caveats.extend(observer_caveat(
+        &chosen.observer_gain,
+        &chosen.one_step_observed,
+        &chosen.one_step_unit_gain,
+    ));
     caveats.extend(stick_caveats(training));
     if model == "flight" || model == "flight selected" {
         caveats.extend(rule_caveats(training));
@@ -230,6 +235,29 @@ pub fn verdict(
         axes,
         scores,
         caveats,
+    })
+}
+
+/// The axes on which the chosen model's one-step observer, its gain `K` searched on the
+/// training logs, predicts the held-out data worse than from the measured state (`K` = 1):
+/// a gain that does not carry over from the training data (`gain`, `observed` and
+/// `unit_gain` per state in the metrics' order).
+fn observer_caveat(gain: &[f32; 6], observed: &[f64; 6], unit_gain: &[f64; 6]) -> Option<String> {
+    let worse: Vec<String> = DISPLAY_ORDER
+        .iter()
+        .filter(|&&i| gain[i] != 1.0 && observed[i] > unit_gain[i])
+        .map(|&i| {
+            format!(
+                "{} (K = {}: {:.3} against {:.3} {})",
+                AXES[i].0, gain[i], observed[i], unit_gain[i], AXES[i].1
+            )
+        })
+        .collect();
+    (!worse.is_empty()).then(|| {
+        format!(
+            "the one-step observer's gain, searched on the training data, predicts the held-out data worse than the measured state (K = 1) on {}: use K = 1 there",
+            worse.join(", ")
+        )
     })
 }
 
@@ -355,4 +383,39 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::observer_caveat;
+
+    /// Only axes whose searched gain is not 1 and loses to the measured state on the held-out
+    /// data are named, in the verdict's order (roll before pitch).
+    #[test]
+    fn the_observer_caveat_names_the_axes_whose_gain_did_not_carry_over() {
+        let gain = [1.0, 0.5, 1.0, 0.9, 0.5, 0.8];
+        let unit = [0.1, 0.1, 0.1, 3.0, 1.0, 2.0];
+        // v_y and r: the gain helps; q and p: it loses; v_x and v_z: gain 1 (no search gain).
+        let observed = [0.2, 0.05, 0.2, 3.5, 0.9, 2.5];
+        let line = observer_caveat(&gain, &observed, &unit).unwrap();
+        assert!(
+            line.contains("pitch rate q (K = 0.9: 3.500 against 3.000 deg/s)"),
+            "{line}"
+        );
+        assert!(line.contains("roll rate p (K = 0.8"), "{line}");
+        assert!(
+            line.find("roll rate p") < line.find("pitch rate q"),
+            "{line}"
+        );
+        for axis in [
+            "east velocity",
+            "down velocity",
+            "north velocity",
+            "yaw rate r",
+        ] {
+            assert!(!line.contains(axis), "{axis} in {line}");
+        }
+        assert_eq!(observer_caveat(&gain, &unit, &unit), None);
+        assert_eq!(observer_caveat(&[1.0; 6], &observed, &unit), None);
+    }
 }

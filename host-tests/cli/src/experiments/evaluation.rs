@@ -193,6 +193,12 @@ pub struct VariantResult {
     /// [`one_step`](Self::one_step) with the least-squares parameters).
     #[serde(default)]
     pub one_step_observed: [f64; 6],
+    /// The same one-step predictions through an observer of gain 1 on every state (from the
+    /// measured state, with the free run's parameters): what
+    /// [`one_step_observed`](Self::one_step_observed) must beat on the held-out data for its
+    /// gain, found on the training logs, to be worth using.
+    #[serde(default)]
+    pub one_step_unit_gain: [f64; 6],
     /// Hold baseline of the free run: the window's initial state held for the whole window
     /// (scored over every window sample, whatever the model did).
     pub hold_free_run: [f64; 6],
@@ -582,6 +588,12 @@ pub fn evaluate(
     };
     let observed = observed_one_step(flown, verification, observer);
     let one_step_observed = one_step_mean_abs_errors(&observed, &actual);
+    let one_step_unit_gain = if observer.gain() == Observer::<f32>::measured().gain() {
+        one_step_observed
+    } else {
+        let unit = observed_one_step(flown, verification, Observer::measured());
+        one_step_mean_abs_errors(&unit, &actual)
+    };
 
     Ok(VariantResult {
         name: variant.name.to_string(),
@@ -595,6 +607,7 @@ pub fn evaluate(
         compensated_rules,
         observer_gain: observer.gain(),
         one_step_observed,
+        one_step_unit_gain,
         hold_free_run: free.hold,
         free_run_windows: free.windows,
         free_run_diverged: free.diverged,
