@@ -10,10 +10,11 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::{derivative, State};
+use super::error::PlantError;
 use super::params::{Helicopter, XCell60};
 use super::pilot::PilotGains;
+use super::sticks::{Channel, Sticks};
 use super::trim::trim_hover;
-use super::{Channel, PlantError, Sticks};
 
 /// Rotor radius of a 600-class helicopter (m): 600 mm blades in grips ≈ 75 mm from the shaft,
 /// a 1.35 m disc.

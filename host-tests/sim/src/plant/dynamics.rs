@@ -16,7 +16,7 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::params::Helicopter;
 use super::rotor::{solve_rotor, RotorSolution};
-use super::Sticks;
+use super::sticks::Sticks;
 
 /// Blade pitch commands (rad) produced from the sticks by [`Helicopter::blade_pitch`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

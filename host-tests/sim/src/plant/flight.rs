@@ -5,12 +5,14 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::dynamics::rk4_step;
+use super::airframe::{Airframe, StickScale};
+use super::dynamics::{rk4_step, State};
+use super::error::PlantError;
 use super::params::{Helicopter, XCell60};
 use super::pilot::{HoverPilot, PilotGains};
 use super::sensors::{jitter_steps, measure, Gust, NoiseStd, SensorSample, Turbulence};
+use super::sticks::{Channel, Sticks};
 use super::trim::{trim_hover, HoverTrim};
-use super::{Airframe, Channel, PlantError, State, StickScale, Sticks};
 
 /// ChaCha stream numbers: each random source has its own stream of the seed, so turning one
 /// option on or off does not change the others' draws.

@@ -16,8 +16,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::State;
+use super::sticks::{Channel, Sticks};
 use super::trim::HoverTrim;
-use super::{Channel, Sticks};
 
 /// Feedback gains of [`HoverPilot`]. Stick units are normalised (–).
 ///

@@ -7,7 +7,7 @@ use rand_distr::{Distribution, StandardNormal};
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::State;
-use super::Sticks;
+use super::sticks::Sticks;
 
 /// One recorded sample (nominally 50 Hz).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]

@@ -3,8 +3,9 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::dynamics::{derivative, BladePitch, State};
+use super::error::PlantError;
 use super::params::Helicopter;
-use super::{PlantError, Sticks};
+use super::sticks::Sticks;
 
 /// Newton iterations allowed; the residual is smooth near hover and converges in ≈ 5.
 const MAX_TRIM_ITERATIONS: usize = 50;

@@ -99,7 +99,7 @@ impl Helicopter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::XCell60;
+    use crate::plant::params::XCell60;
 
     /// Each varied parameter's factor against the airframe's value.
     fn factors(a: &Helicopter, b: &Helicopter) -> Vec<(&'static str, f64, f64)> {
