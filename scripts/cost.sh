@@ -120,7 +120,14 @@ frame are the largest single cost after the U-D updates: they compute in \`f64\`
 which the rule "transcendental maths through \`libm\`" keeps (the profile below:
 \`__aeabi_dmul\`, \`__aeabi_dadd\`, \`__aeabi_d2f\` and \`sincosf\` itself); a quaternion
 removes them. The U-D updates (up to three rules per model, the velocity model's three rows
-each) are the largest part.
+each) are the largest part. With a quaternion they are about 5 300 instructions per step
+(\`step_profile --identifier FlightIdentifier/quaternion 150 250\`: \`update_row\`, 16.6 calls per
+step, about 320 instructions each, the arithmetic of Bierman's update of 7 or 8 parameters
+unrolled), of about 11 100 for the whole step; the rest is the models' terms, their scaling
+and checks, the prediction and the memberships. So 8 000 at worst cannot be reached by
+tuning the code alone: it needs fewer rule updates per step (a higher
+\`MIN_LOCAL_STRENGTH\`, or one update per rule for the three velocity outputs), which is a
+change of the model to be judged by its free run over many flights, not made here.
 
 ## Where the flight identifier's instructions go
 
