@@ -79,7 +79,7 @@ pub const CONVERGENCE_TOLERANCE: f64 = 0.2;
 /// Consecutive settled windows required.
 pub const CONVERGENCE_SETTLE: u16 = 3;
 
-/// Trains `id` online over `logs` (each its own sample chain: [`Identifier::resume`] at the
+/// Trains `id` online over `logs` (each its own sample chain: [`DynIdentifier::resume`](rotorid::DynIdentifier::resume) at the
 /// start of each log and after a gap or a refused sample). `progress` is called once per
 /// sample.
 pub fn train(
@@ -617,6 +617,10 @@ pub fn evaluate(
         free_run_trace: free.trace,
         parameters: id.parameters(),
         compensated_parameters: compensated.map(|c| c.parameters()),
-        snapshot: variant.kind.map(|kind| id.snapshot(kind)),
+        // The core's snapshot under the variant's kind code (`DynIdentifier::snapshot_vec`
+        // sizes the buffer from the identifier: the core's identifiers cannot fail it).
+        snapshot: variant
+            .kind
+            .map(|kind| id.snapshot_vec(kind).unwrap_or_default()),
     })
 }

@@ -24,14 +24,6 @@ pub trait Identifier: DynIdentifier {
     fn parameters(&self) -> Vec<ModelParameters>;
     /// Warm start from [`parameters`](Self::parameters) output; on `Err` nothing changed.
     fn load(&mut self, parameters: &[ModelParameters]) -> Result<(), ParametersError>;
-    /// What was learnt in the core's one saved-state format ([`rotorid::snapshot`]: the C
-    /// interface's export, the link's and the firmware's) under the kind code `kind`
-    /// ([`rotorid::snapshot::KindCode`]).
-    fn snapshot(&self, kind: u32) -> Vec<u8> {
-        // `DynIdentifier::snapshot_vec` sizes the buffer from the identifier: the core's
-        // identifiers (the only ones here) cannot fail it.
-        self.snapshot_vec(kind).unwrap_or_default()
-    }
     /// [`Observer::predict`] with this identifier's parameters.
     fn observe(
         &self,

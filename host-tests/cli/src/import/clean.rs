@@ -86,7 +86,7 @@ impl NativeRates {
 }
 
 /// The fastest of [`IDENTIFICATION_RATES_HZ`] that every channel is logged at (within
-/// [`RATE_SLACK`]): identifying faster than the slowest channel would learn from samples the
+/// `RATE_SLACK`): identifying faster than the slowest channel would learn from samples the
 /// resampling invented, and flatter the one-step scores. Below the slowest candidate, the
 /// slowest candidate (the caller warns).
 pub fn identification_rate(native: &NativeRates) -> f64 {

@@ -1,7 +1,7 @@
 //! A streaming reader of the DataFlash framing: ArduPilot `.bin` logs and PX4 `sdlog2`
 //! `.px4log` logs (same framing, other messages). A record is `0xA3 0x95`, a type byte and a
-//! payload whose length the type's `FMT` record (type 128, 89 bytes: type, length, name[4],
-//! format[16], labels[64]) gives; field types after ArduPilot's `AP_Logger` documentation
+//! payload whose length the type's `FMT` record (type 128, 89 bytes: type, length, name\[4\],
+//! format\[16\], labels\[64\]) gives; field types after ArduPilot's `AP_Logger` documentation
 //! (`b B h H i I f d n N Z c C e E L M q Q a`).
 //!
 //! It replaces the `ardupilot-binlog` crate, which underflows on an `FMT` with a length below
