@@ -9,7 +9,11 @@
 //!
 //! * The training data are cut into blocks of [`BLOCK_S`]; every third block is held out to
 //!   check, the others are learnt (so that each sweep, doublet or operating point of the flight
-//!   is in both parts: a split in time would hold out the last manoeuvre only).
+//!   is in both parts: a split in time would hold out the last manoeuvre only). A log shorter
+//!   than `2 FOLDS` blocks (3 min) is cut into `2 FOLDS` shorter blocks, so that each fold still
+//!   checks two blocks from different parts of the flight; a block must hold
+//!   [`MIN_WINDOWS_PER_BLOCK`] free-run windows, so below `2 FOLDS × 2` windows of training
+//!   data (24 s with 2 s windows) there is nothing to check on and every term stays.
 //! * A candidate is the flight default with some terms pinned at zero (each rule's prior
 //!   variance of the term set to zero, [`pin_to_zero`]: the onboard identifier keeps its fixed
 //!   sizes, and the exported state carries the choice, so a warm start flies it). It is learnt
@@ -31,15 +35,17 @@ use serde::{Deserialize, Serialize};
 use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
 use super::variants::at;
 
-/// Length of the blocks the training data are cut into (s).
+/// Length of the blocks the training data are cut into (s), when the data hold `2 FOLDS` of
+/// them.
 pub const BLOCK_S: f64 = 30.0;
 /// Free-run window of the selection's score (s), the tool's default verification window.
 pub const SELECTION_WINDOW_S: f64 = 2.0;
 /// Folds of the cross-validation: block `i` is held out in fold `i mod FOLDS`.
 pub const FOLDS: usize = 3;
-/// Fewest held-out samples per fold the selection needs, in seconds of data; with less it keeps every
-/// term.
-pub const MIN_CHECK_S: f64 = 20.0;
+/// Fewest free-run windows a block must hold to be checked on; with shorter blocks the
+/// selection keeps every term. One window is a single draw of the run's error; two from
+/// different manoeuvres are the least that compares candidates on more than one instant.
+pub const MIN_WINDOWS_PER_BLOCK: usize = 2;
 
 /// The models in [`TermMask`] order, as named in `params-*.json`.
 pub const MODELS: [&str; 4] = ["velocity", "q", "r", "p"];
@@ -298,15 +304,27 @@ fn model_score(ratios: &[f64; 6], m: usize) -> f64 {
     }
 }
 
+/// Samples per block for `samples` of training data: [`BLOCK_S`], or `2 FOLDS` equal blocks
+/// when the data are shorter than that many; `None` when such a block would hold fewer than
+/// [`MIN_WINDOWS_PER_BLOCK`] windows of `window` samples.
+fn block_length(samples: usize, rate_hz: f64, window: usize) -> Option<usize> {
+    let full = (BLOCK_S * rate_hz).round().max(1.0) as usize;
+    let block = full.min(samples / (2 * FOLDS));
+    (block >= MIN_WINDOWS_PER_BLOCK * window).then_some(block)
+}
+
 /// Selects the flight default's terms from `training` at `period_us` (see the module docs).
-/// With too little data to hold out ([`MIN_CHECK_S`]), every term stays.
+/// With too little data to check on ([`MIN_WINDOWS_PER_BLOCK`]), every term stays.
 pub fn select_terms(
     training: &[Vec<HoverSample<f32>>],
     period_us: u32,
 ) -> Result<TermSelection, rotorid::Error> {
     let rate_hz = 1e6 / f64::from(period_us.max(1));
-    let block = (BLOCK_S * rate_hz).round().max(1.0) as usize;
     let window = (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize;
+    let samples: usize = training.iter().map(Vec::len).sum();
+    let Some(block) = block_length(samples, rate_hz, window) else {
+        return Ok(TermSelection::default());
+    };
     let folds: Vec<Split> = (0..FOLDS).map(|f| split(training, block, f)).collect();
     let check_samples: usize = folds.iter().flat_map(|f| &f.check).map(Vec::len).sum();
     let learn_samples: usize = folds.iter().flat_map(|f| &f.learn).map(Vec::len).sum();
@@ -314,9 +332,6 @@ pub fn select_terms(
         samples: (learn_samples, check_samples),
         ..TermSelection::default()
     };
-    if (check_samples as f64) < FOLDS as f64 * MIN_CHECK_S * rate_hz {
-        return Ok(selection);
-    }
     let gyro_noise = gyro_noise_of(training);
     let mut mask = TermMask::default();
     let mut current = score(mask, &folds, period_us, window, gyro_noise)?;
@@ -405,10 +420,36 @@ mod tests {
 
     #[test]
     fn too_little_data_keeps_every_term() {
-        let log = rotorid_sim::flights::identification_flight_for(1, 30.0).unwrap();
+        // 20 s: six blocks of 3.3 s hold one 2 s window each.
+        let log = rotorid_sim::flights::identification_flight_for(1, 20.0).unwrap();
         let samples = rotorid_sim::flights::to_hover_samples(&log);
         let selection = select_terms(&[samples], 20_000).unwrap();
         assert_eq!(selection.mask, TermMask::default());
         assert_eq!(selection.candidates, 0);
+    }
+
+    #[test]
+    fn short_logs_are_cut_into_six_blocks_of_at_least_two_windows() {
+        // 50 Hz, 2 s windows (100 samples).
+        assert_eq!(block_length(20_000, 50.0, 100), Some(1500));
+        assert_eq!(block_length(9_000, 50.0, 100), Some(1500));
+        assert_eq!(block_length(3_000, 50.0, 100), Some(500));
+        assert_eq!(block_length(1_200, 50.0, 100), Some(200));
+        assert_eq!(block_length(1_199, 50.0, 100), None);
+        // 10 Hz (a real log's rate): 34 s of training make blocks of 5.6 s.
+        assert_eq!(block_length(344, 10.0, 20), Some(57));
+        assert_eq!(block_length(80, 10.0, 20), None);
+    }
+
+    /// A 40 s flight (too short for 30 s blocks) is still selected on, with every sample
+    /// checked once over the folds.
+    #[test]
+    fn a_short_flight_is_selected_on() {
+        let log = rotorid_sim::flights::identification_flight_for(3, 40.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let selection = select_terms(&[samples], 20_000).unwrap();
+        assert!(selection.candidates > 1, "{selection:?}");
+        assert_eq!(selection.samples.1, 40 * 50);
+        assert!(model_score(&selection.selected, 0) <= model_score(&selection.full, 0));
     }
 }
