@@ -10,12 +10,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-# The build first, with cargo's progress shown: from a fresh clone it takes about 1.5 minutes
-# on 2 cores, before the demo prints its first line (docs/workspace.md). The firmware builds
+# The build first, with cargo's progress shown: from a fresh clone it takes about a minute on
+# 2 cores, before the demo prints its first line (docs/workspace.md). The demo binary uses
+# rotorid-cli without its figures and command line (host-tests/Cargo.toml), so plotters'
+# image stack and clap are not built. The firmware builds
 # beside it, quietly: the release profile compiles each large crate on one core, so the
 # other is free most of the time. (The demo builds the firmware again, finding it done, and
 # shows cargo's error if this build failed.)
-echo "rotorid demo: building the host tools and the firmware (a fresh clone: about 1.5 minutes)..."
+echo "rotorid demo: building the host tools and the firmware (a fresh clone: about a minute)..."
 (cd firmware-example && env -u CARGO_TARGET_DIR -u RUSTFLAGS -u CARGO_BUILD_TARGET \
   cargo build -q --release >/dev/null 2>&1) &
 firmware=$!

@@ -10,6 +10,7 @@
 //! compares against) and general-purpose crates; never on the test suite or the firmware link
 //! (arrows point down: tool → simulator → core).
 
+#[cfg(feature = "command-line")]
 pub mod command_line;
 pub mod derivatives;
 pub mod error_chain;

@@ -205,6 +205,12 @@ pub fn format_variants(variants: &[VariantResult], window_s: f64) -> String {
     s
 }
 
+#[cfg(feature = "figures")]
 mod figures;
+#[cfg(not(feature = "figures"))]
+mod no_figures;
 
+#[cfg(feature = "figures")]
 pub use figures::{write_figures, DrawError, FigureError};
+#[cfg(not(feature = "figures"))]
+pub use no_figures::{write_figures, FigureError};
