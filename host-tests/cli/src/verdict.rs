@@ -208,8 +208,13 @@ pub fn verdict(
     let n: usize = training.iter().map(Vec::len).sum();
     let min = (MIN_TRAINING_SAMPLES as f64 * rate_hz / 50.0) as usize;
     if n < min {
+        let selection = if crate::experiments::selects_from(n, rate_hz) {
+            ""
+        } else {
+            "; too little to choose the flight default's terms from the data (`flight selected` keeps every term)"
+        };
         caveats.push(format!(
-            "only {:.0} s of training data: a minute or more of excited flight identifies the models reliably",
+            "only {:.0} s of training data: a minute or more of excited flight identifies the models reliably{selection}",
             n as f64 / rate_hz
         ));
     }

@@ -313,6 +313,13 @@ fn block_length(samples: usize, rate_hz: f64, window: usize) -> Option<usize> {
     (block >= MIN_WINDOWS_PER_BLOCK * window).then_some(block)
 }
 
+/// Whether `samples` of training data at `rate_hz` are enough for [`select_terms`] to check
+/// candidates on (see [`MIN_WINDOWS_PER_BLOCK`]); with fewer it keeps every term.
+pub fn selects_from(samples: usize, rate_hz: f64) -> bool {
+    let window = (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize;
+    block_length(samples, rate_hz, window).is_some()
+}
+
 /// Selects the flight default's terms from `training` at `period_us` (see the module docs).
 /// With too little data to check on ([`MIN_WINDOWS_PER_BLOCK`]), every term stays.
 pub fn select_terms(
@@ -439,6 +446,8 @@ mod tests {
         // 10 Hz (a real log's rate): 34 s of training make blocks of 5.6 s.
         assert_eq!(block_length(344, 10.0, 20), Some(57));
         assert_eq!(block_length(80, 10.0, 20), None);
+        assert!(selects_from(1_200, 50.0) && !selects_from(1_199, 50.0));
+        assert!(selects_from(240, 10.0) && !selects_from(239, 10.0));
     }
 
     /// A 40 s flight (too short for 30 s blocks) is still selected on, with every sample
