@@ -134,7 +134,7 @@ cargo-fuzz (libFuzzer) on $(rustc +nightly --version), on $(uname -m). Each row 
 run of its target (\`docs/fuzzing.tsv\`): the full campaign is
 \`FUZZ_RUNS=10000000 scripts/fuzz.sh\` (or \`FUZZ_TARGETS="ulog_log dataflash_log"\` for some
 targets); CI runs 20 000 executions of each from seed 1 and the committed corpus
-(\`host-tests/fuzz/corpus/\`). Targets are in \`host-tests/fuzz/fuzz_targets/\`; each checks
+(\`host-tests/fuzz/corpus/\`), every target under AddressSanitizer (one build instead of two). Targets are in \`host-tests/fuzz/fuzz_targets/\`; each checks
 properties, not only the absence of panics:
 
 * \`frame_decoder\`: arbitrary bytes into the frame decoder; every delivered frame re-encodes to
