@@ -316,8 +316,12 @@ fn block_length(samples: usize, rate_hz: f64, window: usize) -> Option<usize> {
 /// Whether `samples` of training data at `rate_hz` are enough for [`select_terms`] to check
 /// candidates on (see [`MIN_WINDOWS_PER_BLOCK`]); with fewer it keeps every term.
 pub fn selects_from(samples: usize, rate_hz: f64) -> bool {
-    let window = (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize;
-    block_length(samples, rate_hz, window).is_some()
+    block_length(samples, rate_hz, window_samples(rate_hz)).is_some()
+}
+
+/// Samples in one [`SELECTION_WINDOW_S`] free-run window at `rate_hz`.
+fn window_samples(rate_hz: f64) -> usize {
+    (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize
 }
 
 /// Selects the flight default's terms from `training` at `period_us` (see the module docs).
@@ -327,7 +331,7 @@ pub fn select_terms(
     period_us: u32,
 ) -> Result<TermSelection, rotorid::Error> {
     let rate_hz = 1e6 / f64::from(period_us.max(1));
-    let window = (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize;
+    let window = window_samples(rate_hz);
     let samples: usize = training.iter().map(Vec::len).sum();
     let Some(block) = block_length(samples, rate_hz, window) else {
         return Ok(TermSelection::default());
