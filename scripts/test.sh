@@ -12,6 +12,9 @@ cargo test -p rotorid
 # Everything, optimised.
 part "workspace, release"
 cargo test --workspace --release
+# The CLI binary that build made, for the Python tests to compare with (building it again
+# with `-p rotorid-cli` would unify features differently and rebuild 15 crates).
+export ROTORID_BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 # In debug, what can depend on the build profile: the bits (the golden files, the agreement
 # with the reference) and the overflow checks (every crate's unit tests, the properties). The
 # end-to-end runs (QEMU, the CLI's flights, the soak) compute with the same core and run once,
