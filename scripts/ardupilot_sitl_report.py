@@ -77,7 +77,7 @@ def section(log, run):
     if not verdict:
         lines += [l for l in stdout if l.startswith("No verdict")] + [""]
     if verdict:
-        if verdict["why"].startswith("no model beats"):
+        if not verdict.get("fly", True):
             lines.append(f"Verdict: **no model to fly** (closest: {verdict['model']}); {verdict['why']}.")
         else:
             lines.append(f"Verdict: **{verdict['model']}**; {verdict['why']}.")

@@ -62,7 +62,7 @@ def section(log, run):
     lines.append("")
     verdict = m.get("verdict")
     if verdict:
-        if verdict["why"].startswith("no model beats"):
+        if not verdict.get("fly", True):
             lines.append(f"Verdict: **no model to fly** (closest: {verdict['model']}); {verdict['why']}.")
         else:
             lines.append(f"Verdict: **{verdict['model']}**; {verdict['why']}.")

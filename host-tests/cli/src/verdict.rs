@@ -41,8 +41,20 @@ pub const AXES: [(&str, &str); 6] = [
 /// The order the verdict lists the axes in: north, east, down, roll, pitch, yaw.
 pub const DISPLAY_ORDER: [usize; 6] = [2, 0, 1, 5, 3, 4];
 
-/// Stick standard deviation (normalised units) below which a stick counts as never moved.
+/// Stick standard deviation (normalised units) below which a stick counts as hardly moved:
+/// its control power is not determined (a caveat).
 pub const MIN_STICK_STD: f64 = 0.02;
+
+/// Stick standard deviation (normalised units) below which a stick did not move at all: one
+/// step of a 1000-step PWM range (1 µs of 1000 µs). With every stick below it there is no input
+/// to identify a response to, and no model to fly. (Not [`MIN_STICK_STD`]: a multicopter's
+/// rate-controller outputs in a position hold vary by about 1 % and still drive its motion.)
+pub const STILL_STICK_STD: f64 = 0.001;
+
+/// Fewest free-run windows of held-out data for a model to be recommended: one window is a
+/// single draw of the run's error (the term selection asks as much of each block it checks
+/// on, [`MIN_WINDOWS_PER_BLOCK`](crate::experiments::MIN_WINDOWS_PER_BLOCK)).
+pub const MIN_VERIFICATION_WINDOWS: usize = 2;
 
 /// Fewest training samples for which the verdict does not warn (60 s at 50 Hz).
 pub const MIN_TRAINING_SAMPLES: usize = 3000;
@@ -51,8 +63,9 @@ pub const MIN_TRAINING_SAMPLES: usize = 3000;
 /// fired when enough samples lie within one spread of its centre.
 const RULE_CENTRES_MPS: [f64; 3] = [0.0, 5.0, 10.0];
 const RULE_SPREAD_MPS: f64 = 2.5;
-/// Samples within a rule's spread for it to count as learnt (2 s at 50 Hz).
-const MIN_RULE_SAMPLES: usize = 100;
+/// Flight time within a rule's spread for it to count as learnt (s): in seconds, not samples,
+/// so that a 10 Hz log is held to the same two seconds of flight as a 50 Hz one.
+const MIN_RULE_S: f64 = 2.0;
 
 /// One axis of the chosen model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -76,8 +89,14 @@ pub struct AxisVerdict {
 /// The decision.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Verdict {
-    /// The model to fly (a variant name).
+    /// The model to fly (a variant name), or the closest candidate when [`fly`](Self::fly) is
+    /// false.
     pub model: String,
+    /// Whether the log identifies a model to fly: the chosen model beats holding the measured
+    /// state overall, on at least [`MIN_VERIFICATION_WINDOWS`] held-out windows, with at least
+    /// one stick moved ([`STILL_STICK_STD`]) in the training data. `why` says which failed.
+    #[serde(default)]
+    pub fly: bool,
     /// Why, in a sentence.
     pub why: String,
     /// Per axis, north, east, down, roll, pitch, yaw.
@@ -150,14 +169,22 @@ pub fn verdict(
         .collect();
     let beats_hold = axes.iter().filter(|a| a.vs_hold < 1.0).count();
     let beats_baseline = axes.iter().filter(|a| a.vs_baseline < 1.0).count();
-    let why = if best >= 1.0 {
-        format!(
+    let why_not = no_model(best, &stick_stds(training), chosen.free_run_windows);
+    let fly = why_not.is_none();
+    let why = match why_not {
+        Some(NoModel::NoneBeatsHold) => format!(
             "no model beats holding the measured state overall (the best, {model}, is {best:.2} of hold, geometric mean over the axes): this log does not identify a model to fly; it beats hold on {beats_hold} of 6 axes"
-        )
-    } else {
-        format!(
+        ),
+        Some(NoModel::NoStickMoved) => format!(
+            "no stick moved in the training data (every σ below {} % of travel): the log shows drift, not the response to the controls, so it identifies no model to fly (the closest, {model}, is {best:.2} of hold)",
+            STILL_STICK_STD * 100.0
+        ),
+        Some(NoModel::TooFewWindows(windows)) => format!(
+            "the held-out part holds {windows} free-run window(s), fewer than {MIN_VERIFICATION_WINDOWS}: one window is a single draw of the error, too little to tell a model from holding the state (the closest, {model}, is {best:.2} of hold); fly longer or give --verify"
+        ),
+        None => format!(
             "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of 6 axes and the linear baseline on {beats_baseline} of 6"
-        )
+        ),
     };
     let mut caveats = Vec::new();
     for a in &axes {
@@ -196,7 +223,7 @@ pub fn verdict(
     ));
     caveats.extend(stick_caveats(training));
     if model == "flight" || model == "flight selected" {
-        caveats.extend(rule_caveats(training));
+        caveats.extend(rule_caveats(training, rate_hz));
     }
     if rate_hz < 50.0 {
         caveats.push(format!(
@@ -235,12 +262,40 @@ pub fn verdict(
     };
     Some(Verdict {
         model: model.to_string(),
+        fly,
         why,
         terms_off,
         axes,
         scores,
         caveats,
     })
+}
+
+/// Why a log identifies no model to fly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NoModel {
+    /// The best candidate's free run is no better than holding the measured state.
+    NoneBeatsHold,
+    /// Every stick's σ over the training data is below [`STILL_STICK_STD`]: with no control
+    /// moved the log shows drift and noise, not the response to a control, and a model that
+    /// beats hold there predicts nothing a controller could use.
+    NoStickMoved,
+    /// Fewer than [`MIN_VERIFICATION_WINDOWS`] held-out windows (how many there were).
+    TooFewWindows(usize),
+}
+
+/// Whether the best candidate (score `best`, free run / hold) is a model to fly, given the
+/// sticks' σ over the training data (`stds`, empty when unknown) and the held-out windows.
+fn no_model(best: f64, stds: &[f64], windows: usize) -> Option<NoModel> {
+    if best >= 1.0 {
+        Some(NoModel::NoneBeatsHold)
+    } else if !stds.is_empty() && stds.iter().all(|&s| s < STILL_STICK_STD) {
+        Some(NoModel::NoStickMoved)
+    } else if windows < MIN_VERIFICATION_WINDOWS {
+        Some(NoModel::TooFewWindows(windows))
+    } else {
+        None
+    }
 }
 
 /// The axes on which the chosen model's one-step observer, its gain `K` searched on the
@@ -266,14 +321,9 @@ fn observer_caveat(gain: &[f32; 6], observed: &[f64; 6], unit_gain: &[f64; 6]) -
     })
 }
 
-/// Sticks whose standard deviation over the training data is below [`MIN_STICK_STD`].
-fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
-    let sticks = [
-        ("collective", "vertical (Z_col) and yaw-torque terms"),
-        ("pedal", "yaw control power (N_ped)"),
-        ("longitudinal cyclic", "pitch control power (M_lon)"),
-        ("lateral cyclic", "roll control power (L_lat)"),
-    ];
+/// Standard deviation of each stick over the training data (collective, pedal, longitudinal,
+/// lateral; normalised units); empty with fewer than two samples.
+fn stick_stds(training: &[Vec<SensorSample>]) -> Vec<f64> {
     let value = |s: &SensorSample, k: usize| match k {
         0 => s.sticks.col,
         1 => s.sticks.ped,
@@ -285,29 +335,43 @@ fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
         return Vec::new();
     }
     let n = samples.len() as f64;
-    sticks
-        .iter()
-        .enumerate()
-        .filter_map(|(k, (name, what))| {
+    (0..4)
+        .map(|k| {
             let mean = samples.iter().map(|s| value(s, k)).sum::<f64>() / n;
             let var = samples
                 .iter()
                 .map(|s| (value(s, k) - mean).powi(2))
                 .sum::<f64>()
                 / n;
-            let std = var.sqrt();
-            (std < MIN_STICK_STD).then(|| {
-                format!(
-                    "the {name} was hardly moved (σ = {:.1} % of travel): {what} not determined; fly a doublet or sweep on it",
-                    std * 100.0
-                )
-            })
+            var.sqrt()
+        })
+        .collect()
+}
+
+/// Sticks whose standard deviation over the training data is below [`MIN_STICK_STD`].
+fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
+    let sticks = [
+        ("collective", "vertical (Z_col) and yaw-torque terms"),
+        ("pedal", "yaw control power (N_ped)"),
+        ("longitudinal cyclic", "pitch control power (M_lon)"),
+        ("lateral cyclic", "roll control power (L_lat)"),
+    ];
+    sticks
+        .iter()
+        .zip(stick_stds(training))
+        .filter(|(_, std)| *std < MIN_STICK_STD)
+        .map(|((name, what), std)| {
+            format!(
+                "the {name} was hardly moved (σ = {:.1} % of travel): {what} not determined; fly a doublet or sweep on it",
+                std * 100.0
+            )
         })
         .collect()
 }
 
 /// The flight default's forward-speed rules that the training data never reached.
-fn rule_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
+fn rule_caveats(training: &[Vec<SensorSample>], rate_hz: f64) -> Vec<String> {
+    let min_samples = (MIN_RULE_S * rate_hz).ceil() as usize;
     let forward = |s: &SensorSample| s.v_north * s.yaw.cos() + s.v_east * s.yaw.sin();
     let unlearnt: Vec<String> = RULE_CENTRES_MPS
         .iter()
@@ -317,17 +381,17 @@ fn rule_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
                 .flatten()
                 .filter(|s| (forward(s) - **c).abs() < RULE_SPREAD_MPS)
                 .count()
-                < MIN_RULE_SAMPLES
+                < min_samples
         })
-        .map(|c| format!("{c:.0} m/s"))
+        .map(|c| format!("{c:.0}"))
         .collect();
-    if unlearnt.is_empty() {
-        return Vec::new();
-    }
+    let speeds = match unlearnt.as_slice() {
+        [] => return Vec::new(),
+        [one] => format!("rule at {one} m/s was"),
+        [first @ .., last] => format!("rules at {} and {last} m/s were", first.join(", ")),
+    };
     vec![format!(
-        "the flight default's forward-speed rules at {} were hardly reached (under {} samples within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's",
-        unlearnt.join(" and "),
-        MIN_RULE_SAMPLES
+        "the flight default's forward-speed {speeds} hardly reached (under {MIN_RULE_S} s of flight within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's",
     )]
 }
 
@@ -335,8 +399,7 @@ fn rule_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
 pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
-    let fly = v.scores.iter().any(|(n, x)| *n == v.model && *x < 1.0);
-    if fly {
+    if v.fly {
         let _ = writeln!(s, "Model to fly: {}", v.model);
     } else {
         let _ = writeln!(s, "No model to fly from this log (closest: {})", v.model);
@@ -392,7 +455,26 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::observer_caveat;
+    use super::{no_model, observer_caveat, NoModel, MIN_VERIFICATION_WINDOWS, STILL_STICK_STD};
+
+    /// A model is to fly only when it beats hold, a stick moved at all and the held-out part
+    /// holds at least two windows; each failure is named, the first in that order.
+    #[test]
+    fn a_model_is_to_fly_only_when_it_beats_hold_on_excited_data_and_enough_windows() {
+        let moved = [0.0, 0.0, STILL_STICK_STD, 0.0];
+        let still = [STILL_STICK_STD * 0.99; 4];
+        let enough = MIN_VERIFICATION_WINDOWS;
+        assert_eq!(no_model(0.8, &moved, enough), None);
+        assert_eq!(no_model(1.0, &moved, enough), Some(NoModel::NoneBeatsHold));
+        assert_eq!(no_model(1.2, &still, 0), Some(NoModel::NoneBeatsHold));
+        assert_eq!(no_model(0.8, &still, enough), Some(NoModel::NoStickMoved));
+        assert_eq!(
+            no_model(0.8, &moved, enough - 1),
+            Some(NoModel::TooFewWindows(enough - 1))
+        );
+        // Sticks unknown (fewer than two training samples): not held against the model.
+        assert_eq!(no_model(0.8, &[], enough), None);
+    }
 
     /// Only axes whose searched gain is not 1 and loses to the measured state on the held-out
     /// data are named, in the verdict's order (roll before pitch).

@@ -224,6 +224,76 @@ fn gaps_split_generated_logs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A log that never leaves the ground (collective at idle throughout) is refused for what the
+/// cuts did, not blamed on gaps in the data; `--from`/`--to` replaces the in-air detector.
+#[test]
+fn a_log_cut_away_entirely_says_so() {
+    let mut flight = heli_flight(6.0);
+    flight.iter_mut().for_each(|s| s.sticks.col = 0.0);
+    let dir = tmpdir("ground");
+    let path = dir.join("ground.bin");
+    std::fs::write(&path, synth::dataflash(&flight, true)).expect("write");
+    let e = import::import(&path).expect_err("nothing in the air");
+    assert!(matches!(e, ImportError::AllCut { .. }), "{e:?}");
+    let text = e.to_string();
+    assert!(text.contains("nothing left after the cuts"), "{text}");
+    assert!(text.contains("collective at idle"), "{text}");
+    assert!(!text.contains("gap"), "{text}");
+    let options = import::ImportOptions {
+        from_s: Some(0.0),
+        to_s: Some(1e6),
+        ..Default::default()
+    };
+    let imported = import::import_with(&path, &options).expect("the window replaces the detector");
+    assert_eq!(imported.segments.len(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A loss of control (the attitude 45° off the autopilot's demand for 0.2 s) is cut with a
+/// second on each side and named, in a DataFlash log (`ATT` `DesRoll DesPitch`) and in the
+/// real PX4 log whose quadrotor tumbles at the end (`vehicle_attitude_setpoint`).
+#[test]
+fn a_loss_of_control_is_cut() {
+    let flight = heli_flight(12.0);
+    let demand = |s: &SensorSample| {
+        let off = if (6.0..6.2).contains(&s.t) {
+            45f64.to_radians()
+        } else {
+            0.0
+        };
+        [s.roll + off, s.pitch]
+    };
+    let dir = tmpdir("tumble");
+    let path = dir.join("tumble.bin");
+    std::fs::write(
+        &path,
+        synth::dataflash_with_demand(&flight, true, Some(&demand)),
+    )
+    .expect("write");
+    let imported = import::import(&path).expect("imports");
+    let lost: Vec<_> = imported
+        .cuts
+        .iter()
+        .filter(|c| c.reason.contains("off the autopilot's demand"))
+        .collect();
+    assert_eq!(lost.len(), 1, "{:?}", imported.cuts);
+    // Log time is the sample time after a 1 s boot.
+    assert!((lost[0].from_s - 6.0).abs() < 0.03, "{:?}", lost[0]);
+    assert!((lost[0].to_s - 8.2).abs() < 0.03, "{:?}", lost[0]);
+    assert_eq!(imported.segments.len(), 2);
+
+    let real = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/logs/real/ekf_failure.ulg");
+    let imported = import::import(&real).expect("imports");
+    let lost: Vec<_> = imported
+        .cuts
+        .iter()
+        .filter(|c| c.reason.contains("off the autopilot's demand"))
+        .collect();
+    assert_eq!(lost.len(), 1, "{:?}", imported.cuts);
+    assert!((113.0..114.0).contains(&lost[0].from_s), "{:?}", lost[0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 fn import_bytes(dir: &Path, name: &str, bytes: &[u8]) -> Result<import::Imported, ImportError> {
     let path = dir.join(name);
     std::fs::write(&path, bytes).expect("write");

@@ -163,6 +163,49 @@ pub fn window_cuts(from_s: Option<f64>, to_s: Option<f64>) -> Vec<Cut> {
     cuts
 }
 
+/// Attitude tracking error beyond which control counts as lost (rad): 30°, the angle
+/// deviation of ArduCopter's crash check (`CRASH_CHECK_ANGLE_DEVIATION_DEG`). A controlled
+/// vehicle tracks its demand within a few degrees (the p99 of a real quadrotor's flight before
+/// its mechanical failure: 5.5°); a tumble after a failure or a collision is 30° to 100° off.
+pub const LOST_CONTROL_RAD: f64 = 30.0 * std::f64::consts::PI / 180.0;
+/// Time left out on each side of a sample beyond [`LOST_CONTROL_RAD`] (s): the error grows
+/// for a moment before it passes the bound, and the vehicle needs a moment to recover after.
+pub const LOST_CONTROL_MARGIN_S: f64 = 1.0;
+
+/// Stretches where the attitude is more than [`LOST_CONTROL_RAD`] off the autopilot's demand
+/// (with [`LOST_CONTROL_MARGIN_S`] on each side): the vehicle was not flying the dynamics a
+/// model identifies (a failure, a collision, a tumble). Nothing for a log without the demand.
+pub fn lost_control_cuts(ch: &Channels) -> Vec<Cut> {
+    let mut cuts: Vec<Cut> = Vec::new();
+    let mut worst: Vec<f64> = Vec::new();
+    for (t, e) in ch.attitude_error.t.iter().zip(&ch.attitude_error.v) {
+        // `!(e <= bound)` would cut a NaN too; the importers never push one, so compare plainly.
+        if e[0] <= LOST_CONTROL_RAD || !e[0].is_finite() {
+            continue;
+        }
+        let (from, to) = (t - LOST_CONTROL_MARGIN_S, t + LOST_CONTROL_MARGIN_S);
+        match (cuts.last_mut(), worst.last_mut()) {
+            (Some(c), Some(w)) if from <= c.to_s => {
+                c.to_s = to;
+                c.gap.1 = to;
+                *w = w.max(e[0]);
+            }
+            _ => {
+                cuts.push(ground(from, to, ""));
+                worst.push(e[0]);
+            }
+        }
+    }
+    for (c, w) in cuts.iter_mut().zip(worst) {
+        c.reason = format!(
+            "attitude up to {:.0}° off the autopilot's demand (beyond {:.0}°, ArduCopter's crash-check deviation): control lost (a failure, a collision or a tumble)",
+            w.to_degrees(),
+            LOST_CONTROL_RAD.to_degrees()
+        );
+    }
+    cuts
+}
+
 /// Where the ground time came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InAirSource {
@@ -300,8 +343,9 @@ pub fn rate_advice(format: super::LogFormat) -> &'static str {
         }
         super::LogFormat::DataFlash => {
             "ArduPilot: set LOG_BITMASK bit 0 (ATTITUDE_FAST) to log the attitude (ANG from 4.7 on, \
-             else ATT) and RATE at the loop rate (LOG_FILE_RATEMAX caps them) and the EKF \
-             velocity (XKF1) at 25 Hz, the most ArduCopter logs it at"
+             else ATT) and RATE at the loop rate (LOG_FILE_RATEMAX caps them); the EKF velocity \
+             (XKF1, NKF1 with EKF2) comes at the logging task's rate whatever the bitmask (25 Hz \
+             on ArduCopter 4.7)"
         }
         super::LogFormat::Sdlog2 => {
             "PX4 sdlog2: start the logger at a higher rate (`sdlog2 start -r 100`)"
@@ -395,6 +439,36 @@ mod tests {
         assert!((cuts[0].gap.0 - 0.38).abs() < 1e-9 && (cuts[0].gap.1 - 0.5).abs() < 1e-9);
         assert!(!cuts[0].reason.contains("degrees"));
         assert_eq!(ch.rates_frd.t.len(), 45);
+    }
+
+    /// A tumble (the attitude 40° off its demand, twice, 0.6 s apart) is one cut with a second
+    /// on each side, named with its worst error; a 20° lag and a roll of 179° against a demand
+    /// of −179° are flight.
+    #[test]
+    fn a_loss_of_control_is_cut_with_a_margin() {
+        let ts: Vec<f64> = (0..500).map(|k| f64::from(k) * 0.02).collect();
+        let deg = std::f64::consts::PI / 180.0;
+        let ch = Channels {
+            attitude_error: series(&ts, |t| {
+                let e = if (3.0..3.2).contains(&t) {
+                    40.0
+                } else if (3.8..3.9).contains(&t) {
+                    55.0
+                } else if (6.0..6.5).contains(&t) {
+                    20.0
+                } else {
+                    super::super::resample::angle_difference(179.0 * deg, -179.0 * deg).abs() / deg
+                };
+                [e * deg]
+            }),
+            ..Channels::default()
+        };
+        let cuts = lost_control_cuts(&ch);
+        assert_eq!(cuts.len(), 1, "{cuts:?}");
+        assert!((cuts[0].from_s - 2.0).abs() < 1e-9, "{cuts:?}");
+        assert!((cuts[0].to_s - (3.88 + 1.0)).abs() < 1e-9, "{cuts:?}");
+        assert!(cuts[0].reason.contains("up to 55°"), "{}", cuts[0].reason);
+        assert!(lost_control_cuts(&Channels::default()).is_empty());
     }
 
     #[test]

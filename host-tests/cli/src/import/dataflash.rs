@@ -8,6 +8,7 @@
 //! | velocity | `XKF1` `VN VE VD` (EKF3, core `C` = 0); older logs `NKF1` (EKF2) | m/s |
 //! | body rates | `RATE` `R P Y` (the rate controller's measured rates, FRD) | deg/s → rad/s |
 //! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + collective `RATE` `AOut` (0…1; else `CTUN` `ThO`, held) | — |
+//! | attitude error | `ANG` or `ATT` `DesRoll Roll DesPitch Pitch`: the larger of the roll and pitch errors (for [`lost_control_cuts`](super::clean::lost_control_cuts)) | deg → rad |
 //! | in air | `EV` `Id` (10 armed, 28 not landed → 1; 11 disarmed, 18 land complete → 0) and `ARM` `ArmState` (≠ 0 → 1) | 1 / 0 |
 //!
 //! The controls are the controllers' normalised outputs before the TradHeli swashplate mixer
@@ -27,7 +28,7 @@ pub mod reader;
 use std::io::Read;
 
 use super::malformed::{Malformation, ReadError};
-use super::resample::merge_held;
+use super::resample::{angle_difference, merge_held};
 use super::ulog::read_error;
 use super::{Channels, ImportError, Series};
 use reader::Reader;
@@ -50,6 +51,15 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     let mut collective_ctun = Series::<1>::default();
     // The attitude from `ANG` (4.7 on, fast); `ATT` is kept apart and used only without it.
     let mut attitude_ang = Series::<3>::default();
+    let mut error_ang = Series::<1>::default();
+    // The attitude controller's tracking error, beside the attitude in the same record.
+    let error = |e: &reader::Record| {
+        e.fields(["DesRoll", "Roll", "DesPitch", "Pitch"])
+            .map(|[dr, r, dp, p]| {
+                let off = |d: f64, a: f64| angle_difference(d * deg, a * deg).abs();
+                [off(dr, r).max(off(dp, p))]
+            })
+    };
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     while let Some(e) = reader.next_record().map_err(err)? {
@@ -61,10 +71,16 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
                     ch.attitude.push(t, [r * deg, p * deg, wrap_deg(y)]);
                 }
+                if let Some(x) = error(&e) {
+                    ch.attitude_error.push(t, x);
+                }
             }
             "ANG" => {
                 if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
                     attitude_ang.push(t, [r * deg, p * deg, wrap_deg(y)]);
+                }
+                if let Some(x) = error(&e) {
+                    error_ang.push(t, x);
                 }
             }
             "XKF1" if e.get("C").is_none_or(|c| c == 0.0) => {
@@ -119,6 +135,7 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     }
     if !attitude_ang.t.is_empty() {
         ch.attitude = attitude_ang;
+        ch.attitude_error = error_ang;
     }
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
     let remark = reader.issues().first();

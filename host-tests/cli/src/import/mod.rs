@@ -100,6 +100,15 @@ pub enum ImportError {
         /// [`resample::MAX_SOURCE_GAP_S`].
         max_gap_s: f64,
     },
+    /// There were stretches with every channel, but the cuts (ground time, implausible values,
+    /// `--from`/`--to`) left out every one of them.
+    #[error("{file}: nothing left after the cuts: {reasons} (the log may never have left the ground; `--from S --to S` replaces the in-air detector)")]
+    AllCut {
+        /// The file.
+        file: String,
+        /// The cuts' distinct reasons, `; `-separated.
+        reasons: String,
+    },
     /// A resampled value fails the CSV format's checks.
     #[error("{file}: at t = {t:.3} s, `{column}`: {kind}")]
     Check {
@@ -334,6 +343,7 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
         ));
     }
     let mut cuts = clean::implausible_cuts(&mut channels);
+    cuts.extend(clean::lost_control_cuts(&channels));
     let clamped = clean::saturate_controls(&mut channels);
     if clamped > 0 {
         notes.push(format!(
@@ -355,6 +365,21 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
     let mut segments = Vec::new();
     for seg in resample::resample_at(&channels, rate_hz, &cuts) {
         segments.extend(split_failing(&file, seg, &mut notes));
+    }
+    if segments.is_empty() && !cuts.is_empty() {
+        // Say that the cuts, not gaps in the data, left nothing (when there was something).
+        if !resample::resample_at(&channels, rate_hz, &[]).is_empty() {
+            let mut reasons: Vec<&str> = Vec::new();
+            for c in &cuts {
+                if !reasons.contains(&c.reason.as_str()) {
+                    reasons.push(&c.reason);
+                }
+            }
+            return Err(ImportError::AllCut {
+                file,
+                reasons: reasons.join("; "),
+            });
+        }
     }
     finish(
         &file,

@@ -215,6 +215,35 @@ pub fn merge_held<const N: usize, const M: usize, const K: usize>(
     out
 }
 
+/// The difference `a − b` of two angles (rad), wrapped to [−π, π): a roll of 179° against a
+/// demand of −179° is 2° off, not 358°.
+pub fn angle_difference(a: f64, b: f64) -> f64 {
+    (a - b + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+}
+
+/// Like [`merge_held`], but only where `b`'s latest sample is at most `max_age_s` old: a
+/// demand that stopped being published (a mode without it) is not held against later samples.
+pub fn merge_recent<const N: usize, const M: usize, const K: usize>(
+    a: &Series<N>,
+    b: &Series<M>,
+    max_age_s: f64,
+    f: impl Fn(&[f64; N], &[f64; M]) -> [f64; K],
+) -> Series<K> {
+    let mut out = Series::default();
+    let mut j = 0usize;
+    for (t, x) in a.t.iter().zip(&a.v) {
+        while b.t.get(j + 1).is_some_and(|tb| tb <= t) {
+            j += 1;
+        }
+        if let (Some(tb), Some(y)) = (b.t.get(j), b.v.get(j)) {
+            if *tb <= *t && *t - *tb <= max_age_s {
+                out.push(*t, f(x, y));
+            }
+        }
+    }
+    out
+}
+
 /// A stretch of the log left out, with why: the log is split there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cut {
@@ -244,6 +273,10 @@ pub struct Channels {
     /// (1 = in the air, 0 = on the ground or disarmed; held until the next sample); empty
     /// when the log says nothing, and the in-air detector then falls back on the data.
     pub in_air: Series<1>,
+    /// The attitude controller's tracking error `max(|φ_d − φ|, |θ_d − θ|)` (rad), where the
+    /// log has its demand beside the attitude; empty otherwise. Heading is left out: a yaw
+    /// demand may lead the heading by any amount in a yaw-rate mode.
+    pub attitude_error: Series<1>,
 }
 
 impl Channels {
@@ -260,6 +293,7 @@ impl Channels {
             && ordered(&self.rates_frd)
             && ordered(&self.controls)
             && ordered(&self.in_air)
+            && ordered(&self.attitude_error)
     }
 
     /// The channels of samples that carry every quantity at each time stamp (a CSV log), so
@@ -445,6 +479,7 @@ mod tests {
             rates_frd: series(ts, |t| [0.0, 0.0, 2.0 * t]),
             controls: series(ts, |t| [0.5, t, 0.0, 0.0]),
             in_air: Series::default(),
+            attitude_error: Series::default(),
         }
     }
 

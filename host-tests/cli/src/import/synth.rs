@@ -93,9 +93,32 @@ fn padded<const N: usize>(text: &str) -> [u8; N] {
 /// A DataFlash log with `ATT` (deg), `XKF1` (core 0), `RATE` (deg/s and outputs) and, with
 /// `controls`, `CTUN` `ThO`.
 pub fn dataflash(samples: &[SensorSample], controls: bool) -> Vec<u8> {
+    dataflash_with_demand(samples, controls, None)
+}
+
+/// The attitude controller's roll and pitch demand `[φ_d θ_d]` (rad) of a sample.
+pub type Demand<'a> = &'a dyn Fn(&SensorSample) -> [f64; 2];
+
+/// [`dataflash`], with `ATT` `DesRoll DesPitch` from `demand` when given.
+pub fn dataflash_with_demand(
+    samples: &[SensorSample],
+    controls: bool,
+    demand: Option<Demand<'_>>,
+) -> Vec<u8> {
     // (type, name, format, labels); payload lengths from the format characters Q = 8, f = 4, B = 1.
+    let att = if demand.is_some() {
+        (
+            0x81u8,
+            "ATT",
+            "Qfffff",
+            "TimeUS,DesRoll,Roll,DesPitch,Pitch,Yaw",
+            8 + 20,
+        )
+    } else {
+        (0x81u8, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 8 + 12)
+    };
     let mut formats = vec![
-        (0x81u8, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 8 + 12),
+        att,
         (0x82, "XKF1", "QBfff", "TimeUS,C,VN,VE,VD", 8 + 1 + 12),
         (
             0x83,
@@ -119,8 +142,15 @@ pub fn dataflash(samples: &[SensorSample], controls: bool) -> Vec<u8> {
     for s in samples {
         let u = &s.sticks;
         let yaw = (s.yaw * deg).rem_euclid(360.0);
+        let attitude = match demand {
+            Some(d) => {
+                let [dr, dp] = d(s);
+                floats(&[dr * deg, s.roll * deg, dp * deg, s.pitch * deg, yaw])
+            }
+            None => floats(&[s.roll * deg, s.pitch * deg, yaw]),
+        };
         let rows: [(u8, Vec<u8>); 4] = [
-            (0x81, floats(&[s.roll * deg, s.pitch * deg, yaw])),
+            (0x81, attitude),
             (
                 0x82,
                 [vec![0u8], floats(&[s.v_north, s.v_east, s.v_down])].concat(),

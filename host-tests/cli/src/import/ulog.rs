@@ -8,6 +8,7 @@
 //! | velocity | `vehicle_local_position`: `vx vy vz` (NED), while `v_xy_valid`/`v_z_valid` | m/s |
 //! | body rates | `vehicle_angular_velocity`: `xyz[0..3]` (FRD); older logs: `vehicle_attitude` `rollspeed pitchspeed yawspeed` | rad/s |
 //! | controls | `vehicle_torque_setpoint` `xyz` + `vehicle_thrust_setpoint` `xyz[2]`; older logs: `actuator_controls_0` `control[0..4]` | −1…1, thrust 0…1 |
+//! | attitude error | `vehicle_attitude_setpoint` `q_d[0..4]` (held while under 0.25 s old) against `vehicle_attitude`: the larger of the roll and pitch errors (for [`lost_control_cuts`](super::clean::lost_control_cuts)) | rad |
 //! | in air | `vehicle_land_detected` `landed` (in air = not landed); else `vehicle_status` `arming_state` (2 armed, 3 armed with error) | 1 / 0 |
 //!
 //! The controls are the attitude controller's normalised outputs before the mixer (what the
@@ -20,14 +21,14 @@ use std::collections::HashMap;
 use std::io::Read;
 
 use super::malformed::ReadError;
-use super::resample::merge_held;
+use super::resample::{angle_difference, merge_held, merge_recent};
 use super::{Channels, ImportError, Series};
 use reader::{Event, Field, Reader};
 
 const FORMAT: &str = "ULog";
 
 /// The topics read, and the fields of each (in the order [`Acc::push`] takes them).
-const TOPICS: [(&str, &[&str]); 8] = [
+const TOPICS: [(&str, &[&str]); 9] = [
     (
         "vehicle_attitude",
         &[
@@ -53,6 +54,10 @@ const TOPICS: [(&str, &[&str]); 8] = [
     ),
     ("vehicle_land_detected", &["landed"]),
     ("vehicle_status", &["arming_state"]),
+    (
+        "vehicle_attitude_setpoint",
+        &["q_d[0]", "q_d[1]", "q_d[2]", "q_d[3]"],
+    ),
 ];
 
 /// A subscription of instance 0 of one of [`TOPICS`]: which, and its located fields.
@@ -75,6 +80,7 @@ struct Acc {
     actuator_controls: Series<4>,
     landed: Series<1>,
     armed: Series<1>,
+    attitude_setpoint: Series<3>,
 }
 
 impl Acc {
@@ -120,6 +126,12 @@ impl Acc {
                 self.armed
                     .push(t, [if s == 2.0 || s == 3.0 { 1.0 } else { 0.0 }]);
             }),
+            8 => {
+                if let (Some(xyz), Some(w)) = (arr(1), get(0)) {
+                    self.attitude_setpoint
+                        .push(t, quaternion_to_euler([w, xyz[0], xyz[1], xyz[2]]));
+                }
+            }
             _ => {}
         }
     }
@@ -223,6 +235,17 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         tried,
         remark: remark.clone(),
     };
+    // The demand is published only in the modes that control the attitude: a stale one is
+    // not held against later samples.
+    let attitude_error = merge_recent(
+        &acc.attitude,
+        &acc.attitude_setpoint,
+        super::resample::MAX_SOURCE_GAP_S,
+        |a, d| {
+            let off = |i: usize| angle_difference(d[i], a[i]).abs();
+            [off(0).max(off(1))]
+        },
+    );
     let nonempty = |s: Series<3>| (!s.t.is_empty()).then_some(s);
     let attitude = nonempty(acc.attitude)
         .ok_or_else(|| missing("attitude", "`vehicle_attitude` `q[0..4]`"))?;
@@ -267,6 +290,7 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
             rates_frd,
             controls,
             in_air,
+            attitude_error,
         },
         notes,
     ))
