@@ -60,6 +60,8 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 [off(dr, r).max(off(dp, p))]
             })
     };
+    // The firmware's name from its first `MSG` ("ArduPlane V4.2.3", "APM:Copter V3.4.4").
+    let mut firmware: Option<String> = None;
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     while let Some(e) = reader.next_record().map_err(err)? {
@@ -114,6 +116,12 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 Some(11.0 | 18.0) => ch.in_air.push(t, [0.0]),
                 _ => {}
             },
+            "MSG" if firmware.is_none() => {
+                firmware = e
+                    .text("Message")
+                    .filter(|m| m.starts_with("Ardu") || m.starts_with("APM:"))
+                    .map(|m| m.split(" (").next().unwrap_or_default().to_string());
+            }
             "ARM" => {
                 if let Some(s) = e.get("ArmState") {
                     ch.in_air.push(t, [if s != 0.0 { 1.0 } else { 0.0 }]);
@@ -138,28 +146,40 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         ch.attitude_error = error_ang;
     }
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
-    let remark = reader.issues().first();
-    let missing = |quantity, tried| ImportError::Missing {
-        file: file.to_string(),
-        format: FORMAT,
-        quantity,
-        tried,
-        remark: remark.clone(),
-    };
-    if ch.attitude.t.is_empty() {
-        return Err(missing("attitude", "`ANG` or `ATT` `Roll Pitch Yaw`"));
-    }
-    if ch.velocity_ned.t.is_empty() {
-        return Err(missing("velocity", "`XKF1` or `NKF1` `VN VE VD`"));
-    }
-    if ch.rates_frd.t.is_empty() {
-        return Err(missing("body rates", "`RATE` `R P Y`"));
-    }
-    if ch.controls.t.is_empty() {
-        return Err(missing(
+    let remark = reader.issues().first().map(String::into_boxed_str);
+    // Every missing quantity in one error: the first, and the others after it.
+    let mut missing = [
+        (
+            ch.attitude.t.is_empty(),
+            "attitude",
+            "`ANG` or `ATT` `Roll Pitch Yaw`",
+        ),
+        (
+            ch.velocity_ned.t.is_empty(),
+            "velocity",
+            "`XKF1` or `NKF1` `VN VE VD`",
+        ),
+        (ch.rates_frd.t.is_empty(), "body rates", "`RATE` `R P Y`"),
+        (
+            ch.controls.t.is_empty(),
             "helicopter controls",
             "`RATE` `ROut POut YOut` with `RATE` `AOut` or `CTUN` `ThO`",
-        ));
+        ),
+    ]
+    .into_iter()
+    .filter(|(absent, _, _)| *absent);
+    if let Some((_, quantity, tried)) = missing.next() {
+        return Err(ImportError::Missing {
+            file: file.to_string(),
+            format: FORMAT,
+            quantity,
+            tried,
+            remark,
+            context: Box::new(super::MissingContext {
+                also: missing.map(|(_, q, _)| q).collect(),
+                written_by: firmware,
+            }),
+        });
     }
     Ok((ch, notes))
 }
@@ -233,6 +253,33 @@ mod tests {
             }
         }
         buf
+    }
+
+    /// A fixed-wing log (attitude and velocity, no `RATE`) is told in one line: every missing
+    /// quantity, and which firmware wrote it (`MSG`), saying it is not a rotorcraft's.
+    #[test]
+    fn a_plane_log_names_everything_missing_and_its_firmware() {
+        let mut buf = Vec::new();
+        fmt(&mut buf, 0x81, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
+        fmt(&mut buf, 0x82, "XKF1", "Qfff", "TimeUS,VN,VE,VD", 20);
+        fmt(&mut buf, 0x86, "MSG", "QZ", "TimeUS,Message", 72);
+        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
+        buf.extend_from_slice(&1_000_000u64.to_le_bytes());
+        buf.extend_from_slice(&padded::<64>("ArduPlane V4.2.3 (c0ffee00)"));
+        for k in 0..10u64 {
+            let t = 1_000_000 + k * 20_000;
+            row(&mut buf, 0x81, t, &[0.0, 0.0, 10.0]);
+            row(&mut buf, 0x82, t, &[0.0, 0.0, 0.0]);
+        }
+        let e = channels("plane.bin", &buf[..]).expect_err("no rates");
+        let text = e.to_string();
+        assert!(text.contains("no body rates"), "{text}");
+        assert!(text.contains("also no helicopter controls"), "{text}");
+        assert!(
+            text.contains("written by ArduPlane V4.2.3, not a rotorcraft's firmware"),
+            "{text}"
+        );
+        assert!(!text.contains("c0ffee00"), "{text}");
     }
 
     #[test]

@@ -79,7 +79,7 @@ pub enum ImportError {
         file: String,
     },
     /// A quantity's topic or message is absent (or has no finite sample).
-    #[error("{file}: no {quantity}: {format} log has none of {tried}{}", while_reading(.remark))]
+    #[error("{file}: no {quantity}: {format} log has none of {tried}{}{}{}", also_missing(&.context.also), firmware_remark(&.context.written_by), while_reading(.remark))]
     Missing {
         /// The file.
         file: String,
@@ -90,7 +90,9 @@ pub enum ImportError {
         /// The topics/messages looked for.
         tried: &'static str,
         /// The first problem the reader read past, when there was one (it may be the cause).
-        remark: Option<String>,
+        remark: Option<Box<str>>,
+        /// The other quantities missing, and who wrote the log (boxed: errors stay small).
+        context: Box<MissingContext>,
     },
     /// All channels are there but never together without a gap.
     #[error("{file}: no stretch where attitude, velocity, rates and controls all have data without a gap over {max_gap_s} s")]
@@ -126,8 +128,42 @@ pub enum ImportError {
     Log(#[from] log::LogError),
 }
 
+/// What an [`ImportError::Missing`] knows besides the first missing quantity.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MissingContext {
+    /// The other quantities that are missing too.
+    pub also: Vec<&'static str>,
+    /// The firmware that wrote the log, when it says (DataFlash `MSG`: "ArduPlane V4.2.3").
+    pub written_by: Option<String>,
+}
+
+/// `; also no …` for [`ImportError::Missing`]: every missing quantity in one error.
+fn also_missing(also: &[&str]) -> String {
+    if also.is_empty() {
+        String::new()
+    } else {
+        format!("; also no {}", also.join(", no "))
+    }
+}
+
+/// ` (written by …)` for [`ImportError::Missing`], saying when the firmware is not a
+/// rotorcraft's.
+fn firmware_remark(firmware: &Option<String>) -> String {
+    let Some(f) = firmware else {
+        return String::new();
+    };
+    let rotorcraft = ["Copter", "Heli", "PX4"].iter().any(|k| f.contains(k));
+    if rotorcraft {
+        format!(" (written by {f})")
+    } else {
+        format!(
+            " (written by {f}, not a rotorcraft's firmware: rotorid reads the messages ArduCopter, TradHeli included, and PX4 write)"
+        )
+    }
+}
+
 /// `; while reading: …` for [`ImportError::Missing`] when the reader made a remark.
-fn while_reading(remark: &Option<String>) -> String {
+fn while_reading(remark: &Option<Box<str>>) -> String {
     remark
         .as_ref()
         .map(|r| format!(" (while reading: {r})"))

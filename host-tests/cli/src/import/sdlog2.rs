@@ -121,13 +121,14 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     ch.velocity_ned = if lpos.t.is_empty() { gpos } else { lpos };
     ch.in_air = if landed.t.is_empty() { armed } else { landed };
     // A message logged once (sdlog2 writes each topic at start) is no channel either.
-    let remark = reader.issues().first();
+    let remark = reader.issues().first().map(String::into_boxed_str);
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
         remark: remark.clone(),
+        context: Box::default(),
     };
     if ch.attitude.t.len() < 2 {
         return Err(missing("attitude", "`ATT` `Roll Pitch Yaw` after a `TIME`"));

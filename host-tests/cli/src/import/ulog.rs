@@ -227,13 +227,14 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
             "{file}: the logger dropped data {dropouts} times ({dropout_ms} ms in all), first at byte {at}"
         ));
     }
-    let remark = reader.issues().first();
+    let remark = reader.issues().first().map(String::into_boxed_str);
     let missing = |quantity, tried| ImportError::Missing {
         file: file.to_string(),
         format: FORMAT,
         quantity,
         tried,
         remark: remark.clone(),
+        context: Box::default(),
     };
     // The demand is published only in the modes that control the attitude: a stale one is
     // not held against later samples.

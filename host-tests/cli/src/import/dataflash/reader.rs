@@ -120,6 +120,18 @@ impl Record<'_> {
         char_value(*c, self.payload.get(*at..at.checked_add(size)?)?)
     }
 
+    /// The text field `label` (format characters `n`, `N`, `Z`) up to its first NUL, `None`
+    /// when absent, numeric, or past the record's end.
+    pub fn text(&self, label: &str) -> Option<String> {
+        let (_, c, at) = self.format.fields.iter().find(|(l, _, _)| l == label)?;
+        if !matches!(*c, b'n' | b'N' | b'Z') {
+            return None;
+        }
+        let bytes = self.payload.get(*at..at.checked_add(char_size(*c)?)?)?;
+        let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+        Some(String::from_utf8_lossy(bytes.get(..end)?).into_owned())
+    }
+
     /// `N` numeric fields at once.
     pub fn fields<const N: usize>(&self, labels: [&str; N]) -> Option<[f64; N]> {
         let mut out = [0.0; N];
