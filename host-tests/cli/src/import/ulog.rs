@@ -228,14 +228,6 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         ));
     }
     let remark = reader.issues().first().map(String::into_boxed_str);
-    let missing = |quantity, tried| ImportError::Missing {
-        file: file.to_string(),
-        format: FORMAT,
-        quantity,
-        tried,
-        remark: remark.clone(),
-        context: Box::default(),
-    };
     // The demand is published only in the modes that control the attitude: a stale one is
     // not held against later samples.
     let attitude_error = merge_recent(
@@ -248,37 +240,60 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         },
     );
     let nonempty = |s: Series<3>| (!s.t.is_empty()).then_some(s);
-    let attitude = nonempty(acc.attitude)
-        .ok_or_else(|| missing("attitude", "`vehicle_attitude` `q[0..4]`"))?;
-    let velocity_ned = nonempty(acc.velocity).ok_or_else(|| {
-        if acc.any_velocity {
-            missing(
-                "valid velocity",
-                "`vehicle_local_position` rows with `v_xy_valid` and `v_z_valid` set",
-            )
-        } else {
-            missing("velocity", "`vehicle_local_position` `vx vy vz`")
-        }
-    })?;
-    let rates_frd = nonempty(acc.angular_velocity)
-        .or_else(|| nonempty(acc.attitude_rates))
-        .ok_or_else(|| {
-            missing(
-                "body rates",
-                "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
-            )
-        })?;
+    let attitude = nonempty(acc.attitude);
+    let velocity_ned = nonempty(acc.velocity);
+    let rates_frd = nonempty(acc.angular_velocity).or_else(|| nonempty(acc.attitude_rates));
     let controls = Some(merge_held(&acc.torque, &acc.thrust, |m, f| {
         [-f[2], m[2], m[1], m[0]]
     }))
     .filter(|s| !s.t.is_empty())
-    .or_else(|| Some(acc.actuator_controls).filter(|s| !s.t.is_empty()))
-    .ok_or_else(|| {
-        missing(
-            "helicopter controls",
-            "`vehicle_torque_setpoint` + `vehicle_thrust_setpoint`, `actuator_controls_0`",
-        )
-    })?;
+    .or_else(|| Some(acc.actuator_controls).filter(|s| !s.t.is_empty()));
+    let absent = [
+        attitude.is_none(),
+        velocity_ned.is_none(),
+        rates_frd.is_none(),
+        controls.is_none(),
+    ];
+    let (Some(attitude), Some(velocity_ned), Some(rates_frd), Some(controls)) =
+        (attitude, velocity_ned, rates_frd, controls)
+    else {
+        // Every missing quantity in one error: the first, and the others after it.
+        let velocity = if acc.any_velocity {
+            (
+                "valid velocity",
+                "`vehicle_local_position` rows with `v_xy_valid` and `v_z_valid` set",
+            )
+        } else {
+            ("velocity", "`vehicle_local_position` `vx vy vz`")
+        };
+        let mut missing = [
+            ("attitude", "`vehicle_attitude` `q[0..4]`"),
+            velocity,
+            (
+                "body rates",
+                "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
+            ),
+            (
+                "helicopter controls",
+                "`vehicle_torque_setpoint` + `vehicle_thrust_setpoint`, `actuator_controls_0`",
+            ),
+        ]
+        .into_iter()
+        .zip(absent)
+        .filter_map(|(what, absent)| absent.then_some(what));
+        let (quantity, tried) = missing.next().unwrap_or(("attitude", "`vehicle_attitude`"));
+        return Err(ImportError::Missing {
+            file: file.to_string(),
+            format: FORMAT,
+            quantity,
+            tried,
+            remark,
+            context: Box::new(super::MissingContext {
+                also: missing.map(|(q, _)| q).collect(),
+                written_by: None,
+            }),
+        });
+    };
     let in_air = if acc.landed.t.is_empty() {
         acc.armed
     } else {
