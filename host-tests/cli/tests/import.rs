@@ -270,26 +270,25 @@ fn a_loss_of_control_is_cut() {
         synth::dataflash_with_demand(&flight, true, Some(&demand)),
     )
     .expect("write");
+    let lost_control = |imported: &import::Imported| -> Vec<import::resample::Cut> {
+        let lost: Vec<_> = imported
+            .cuts
+            .iter()
+            .filter(|c| c.reason.contains("off the autopilot's demand"))
+            .cloned()
+            .collect();
+        assert_eq!(lost.len(), 1, "{:?}", imported.cuts);
+        lost
+    };
     let imported = import::import(&path).expect("imports");
-    let lost: Vec<_> = imported
-        .cuts
-        .iter()
-        .filter(|c| c.reason.contains("off the autopilot's demand"))
-        .collect();
-    assert_eq!(lost.len(), 1, "{:?}", imported.cuts);
+    let lost = lost_control(&imported);
     // Log time is the sample time after a 1 s boot.
     assert!((lost[0].from_s - 6.0).abs() < 0.03, "{:?}", lost[0]);
     assert!((lost[0].to_s - 8.2).abs() < 0.03, "{:?}", lost[0]);
     assert_eq!(imported.segments.len(), 2);
 
     let real = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/logs/real/ekf_failure.ulg");
-    let imported = import::import(&real).expect("imports");
-    let lost: Vec<_> = imported
-        .cuts
-        .iter()
-        .filter(|c| c.reason.contains("off the autopilot's demand"))
-        .collect();
-    assert_eq!(lost.len(), 1, "{:?}", imported.cuts);
+    let lost = lost_control(&import::import(&real).expect("imports"));
     assert!((113.0..114.0).contains(&lost[0].from_s), "{:?}", lost[0]);
     let _ = std::fs::remove_dir_all(&dir);
 }

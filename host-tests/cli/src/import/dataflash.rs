@@ -148,38 +148,28 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     ch.controls = merge_held(&outs, &collective, |o, c| [c[0], o[0], o[1], o[2]]);
     let remark = reader.issues().first().map(String::into_boxed_str);
     // Every missing quantity in one error: the first, and the others after it.
-    let mut missing = [
+    let missing = [
         (
             ch.attitude.t.is_empty(),
-            "attitude",
-            "`ANG` or `ATT` `Roll Pitch Yaw`",
+            ("attitude", "`ANG` or `ATT` `Roll Pitch Yaw`"),
         ),
         (
             ch.velocity_ned.t.is_empty(),
-            "velocity",
-            "`XKF1` or `NKF1` `VN VE VD`",
+            ("velocity", "`XKF1` or `NKF1` `VN VE VD`"),
         ),
-        (ch.rates_frd.t.is_empty(), "body rates", "`RATE` `R P Y`"),
+        (ch.rates_frd.t.is_empty(), ("body rates", "`RATE` `R P Y`")),
         (
             ch.controls.t.is_empty(),
-            "helicopter controls",
-            "`RATE` `ROut POut YOut` with `RATE` `AOut` or `CTUN` `ThO`",
+            (
+                "helicopter controls",
+                "`RATE` `ROut POut YOut` with `RATE` `AOut` or `CTUN` `ThO`",
+            ),
         ),
     ]
     .into_iter()
-    .filter(|(absent, _, _)| *absent);
-    if let Some((_, quantity, tried)) = missing.next() {
-        return Err(ImportError::Missing {
-            file: file.to_string(),
-            format: FORMAT,
-            quantity,
-            tried,
-            remark,
-            context: Box::new(super::MissingContext {
-                also: missing.map(|(_, q, _)| q).collect(),
-                written_by: firmware,
-            }),
-        });
+    .filter_map(|(absent, what)| absent.then_some(what));
+    if let Some(e) = ImportError::missing_all(file, FORMAT, missing, remark, firmware) {
+        return Err(e);
     }
     Ok((ch, notes))
 }

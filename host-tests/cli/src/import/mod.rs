@@ -137,6 +137,32 @@ pub struct MissingContext {
     pub written_by: Option<String>,
 }
 
+impl ImportError {
+    /// [`ImportError::Missing`] naming every absent quantity `(quantity, tried)` of `absent`
+    /// (the first, then the others); `None` when none is absent.
+    fn missing_all(
+        file: &str,
+        format: &'static str,
+        absent: impl IntoIterator<Item = (&'static str, &'static str)>,
+        remark: Option<Box<str>>,
+        written_by: Option<String>,
+    ) -> Option<Self> {
+        let mut absent = absent.into_iter();
+        let (quantity, tried) = absent.next()?;
+        Some(Self::Missing {
+            file: file.to_string(),
+            format,
+            quantity,
+            tried,
+            remark,
+            context: Box::new(MissingContext {
+                also: absent.map(|(q, _)| q).collect(),
+                written_by,
+            }),
+        })
+    }
+}
+
 /// `; also no …` for [`ImportError::Missing`]: every missing quantity in one error.
 fn also_missing(also: &[&str]) -> String {
     if also.is_empty() {
