@@ -179,8 +179,7 @@ pub fn lost_control_cuts(ch: &Channels) -> Vec<Cut> {
     let mut cuts: Vec<Cut> = Vec::new();
     let mut worst: Vec<f64> = Vec::new();
     for (t, e) in ch.attitude_error.t.iter().zip(&ch.attitude_error.v) {
-        // `!(e <= bound)` would cut a NaN too; the importers never push one, so compare plainly.
-        if e[0] <= LOST_CONTROL_RAD || !e[0].is_finite() {
+        if !(e[0].is_finite() && e[0] > LOST_CONTROL_RAD) {
             continue;
         }
         let (from, to) = (t - LOST_CONTROL_MARGIN_S, t + LOST_CONTROL_MARGIN_S);
