@@ -70,6 +70,7 @@ FIXTURES = [
     "battery_brownout.ulg",
     "gps_interference.ulg",
     "sample_px4_events.ulg",
+    "ardusub_bench_small.bin",
 ]
 
 ULOG_TOPICS = [

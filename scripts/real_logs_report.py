@@ -99,14 +99,17 @@ def summary(runs):
         off = (m.get("verdict") or {}).get("terms_off") or []
         how = (f"{len(off)} terms off" if off else
                "every term kept" + (" (too short to check on)" if train_s < 24 else ""))
+        verdict = m.get("verdict") or {}
+        fly = verdict.get("model", "—") if verdict.get("fly", True) else "none"
         rows.append(f"| `{os.path.basename(log)}` | {train_s:.0f} s | " + " | ".join(cells)
-                    + f" | {how} |")
+                    + f" | {how} | {fly} |")
     out = ["## Pitch and roll against hold, every log", "",
            "Free run / hold on the held-out part (below 1: the model predicts the rate better than "
            "holding it). The selection needs at least 24 s of training data (six blocks of two "
-           "2 s windows); with less, *selected* keeps every term.", "",
-           "| log | training | flight q | flight p | selected q | selected p | selection |",
-           "|---|---:|---:|---:|---:|---:|---|", *rows, ""]
+           "2 s windows); with less, *selected* keeps every term. The last column is the "
+           "verdict's model to fly (none: the log identifies none, see its section).", "",
+           "| log | training | flight q | flight p | selected q | selected p | selection | model to fly |",
+           "|---|---:|---:|---:|---:|---:|---|---|", *rows, ""]
     if missing:
         out += [f"Not identified (one line each, below): {', '.join(f'`{n}`' for n in missing)}.", ""]
     return out
@@ -119,9 +122,11 @@ def main():
            "`host-tests/cli/data/logs/` (origin, licence and hash of each in its README), with no",
            "hand trimming: the import cuts ground time and implausible stretches, identifies at the",
            "rate the log supports, and holds the later part out for verification. None of these",
-           "logs is of a helicopter flying under the autopilot's control: four are multicopters",
-           "(their thrust and torque setpoints stand in for the helicopter's controls), two are a",
-           "T-REX 550 whose PX4 estimator never had a valid horizontal velocity. So the numbers say",
+           "logs is of a helicopter flying under the autopilot's control: five are multicopter",
+           "flights, one a multicopter on the ground and one PX4's simulated quadrotor (their thrust",
+           "and torque setpoints stand in for the helicopter's controls), two are a T-REX 550 whose",
+           "PX4 estimator never had a valid horizontal velocity, one is an ArduSub armed on a bench",
+           "(nothing moved: the case of no model to fly). So the numbers say",
            "how the pipeline and the verdict behave on real data, not how well the helicopter",
            "models fit a helicopter.", ""]
     out += summary(runs)

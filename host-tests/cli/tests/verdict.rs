@@ -232,6 +232,25 @@ fn a_future_time_stamp_costs_one_record_not_the_rest_of_the_log() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A real log of a vehicle armed on a bench (ArduSub, nothing moved, no control input) beats
+/// hold by chance on drift and noise; the verdict says there is no model to fly, and why.
+#[test]
+fn a_bench_log_gives_no_model_to_fly() {
+    let log = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/logs/real/ardusub_bench_small.bin");
+    let dir = tmpdir("bench");
+    let o = run(bin()
+        .args(["identify", "--no-plots", "--out"])
+        .arg(&dir)
+        .arg(&log));
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(stdout.contains("No model to fly"), "{stdout}");
+    let m = metrics(&dir);
+    assert_eq!(m["verdict"]["fly"], false, "{}", m["verdict"]);
+    let why = m["verdict"]["why"].as_str().unwrap();
+    assert!(why.contains("no stick moved"), "{why}");
+}
+
 /// Issue 34's criterion on the real logs committed under `data/logs/real/` (and the ESC log):
 /// wherever the training data are long enough for the term selection (24 s: six blocks of two
 /// 2 s windows), it runs, and `flight selected`'s free run predicts pitch and roll no worse than
