@@ -54,7 +54,7 @@ pub const STILL_STICK_STD: f64 = 0.001;
 /// Fewest free-run windows of held-out data for a model to be recommended: one window is a
 /// single draw of the run's error (the term selection asks as much of each block it checks
 /// on, [`MIN_WINDOWS_PER_BLOCK`](crate::experiments::MIN_WINDOWS_PER_BLOCK)).
-pub const MIN_VERIFICATION_WINDOWS: usize = 2;
+pub const MIN_VERIFICATION_WINDOWS: usize = crate::experiments::MIN_WINDOWS_PER_BLOCK;
 
 /// Fewest training samples for which the verdict does not warn (60 s at 50 Hz).
 pub const MIN_TRAINING_SAMPLES: usize = 3000;
@@ -169,7 +169,8 @@ pub fn verdict(
         .collect();
     let beats_hold = axes.iter().filter(|a| a.vs_hold < 1.0).count();
     let beats_baseline = axes.iter().filter(|a| a.vs_baseline < 1.0).count();
-    let why_not = no_model(best, &stick_stds(training), chosen.free_run_windows);
+    let stds = stick_stds(training);
+    let why_not = no_model(best, &stds, chosen.free_run_windows);
     let fly = why_not.is_none();
     let why = match why_not {
         Some(NoModel::NoneBeatsHold) => format!(
@@ -221,7 +222,7 @@ pub fn verdict(
         &chosen.one_step_observed,
         &chosen.one_step_unit_gain,
     ));
-    caveats.extend(stick_caveats(training));
+    caveats.extend(stick_caveats(&stds));
     if model == "flight" || model == "flight selected" {
         caveats.extend(rule_caveats(training, rate_hz));
     }
@@ -348,8 +349,9 @@ fn stick_stds(training: &[Vec<SensorSample>]) -> Vec<f64> {
         .collect()
 }
 
-/// Sticks whose standard deviation over the training data is below [`MIN_STICK_STD`].
-fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
+/// Sticks whose standard deviation over the training data (`stds`, from [`stick_stds`]) is
+/// below [`MIN_STICK_STD`].
+fn stick_caveats(stds: &[f64]) -> Vec<String> {
     let sticks = [
         ("collective", "vertical (Z_col) and yaw-torque terms"),
         ("pedal", "yaw control power (N_ped)"),
@@ -358,8 +360,8 @@ fn stick_caveats(training: &[Vec<SensorSample>]) -> Vec<String> {
     ];
     sticks
         .iter()
-        .zip(stick_stds(training))
-        .filter(|(_, std)| *std < MIN_STICK_STD)
+        .zip(stds)
+        .filter(|(_, std)| **std < MIN_STICK_STD)
         .map(|((name, what), std)| {
             format!(
                 "the {name} was hardly moved (σ = {:.1} % of travel): {what} not determined; fly a doublet or sweep on it",

@@ -151,14 +151,14 @@ pub fn saturate_controls(ch: &mut Channels) -> usize {
 pub fn window_cuts(from_s: Option<f64>, to_s: Option<f64>) -> Vec<Cut> {
     let mut cuts = Vec::new();
     if let Some(from) = from_s {
-        cuts.push(ground(
+        cuts.push(span(
             f64::NEG_INFINITY,
             from,
             &format!("before --from {from} s"),
         ));
     }
     if let Some(to) = to_s {
-        cuts.push(ground(to, f64::INFINITY, &format!("after --to {to} s")));
+        cuts.push(span(to, f64::INFINITY, &format!("after --to {to} s")));
     }
     cuts
 }
@@ -176,33 +176,35 @@ pub const LOST_CONTROL_MARGIN_S: f64 = 1.0;
 /// (with [`LOST_CONTROL_MARGIN_S`] on each side): the vehicle was not flying the dynamics a
 /// model identifies (a failure, a collision, a tumble). Nothing for a log without the demand.
 pub fn lost_control_cuts(ch: &Channels) -> Vec<Cut> {
-    let mut cuts: Vec<Cut> = Vec::new();
-    let mut worst: Vec<f64> = Vec::new();
+    // (from, to, worst error) of each stretch; a sample within reach of the last extends it.
+    let mut spans: Vec<(f64, f64, f64)> = Vec::new();
     for (t, e) in ch.attitude_error.t.iter().zip(&ch.attitude_error.v) {
         if !(e[0].is_finite() && e[0] > LOST_CONTROL_RAD) {
             continue;
         }
         let (from, to) = (t - LOST_CONTROL_MARGIN_S, t + LOST_CONTROL_MARGIN_S);
-        match (cuts.last_mut(), worst.last_mut()) {
-            (Some(c), Some(w)) if from <= c.to_s => {
-                c.to_s = to;
-                c.gap.1 = to;
-                *w = w.max(e[0]);
+        match spans.last_mut() {
+            Some(last) if from <= last.1 => {
+                last.1 = to;
+                last.2 = last.2.max(e[0]);
             }
-            _ => {
-                cuts.push(ground(from, to, ""));
-                worst.push(e[0]);
-            }
+            _ => spans.push((from, to, e[0])),
         }
     }
-    for (c, w) in cuts.iter_mut().zip(worst) {
-        c.reason = format!(
-            "attitude up to {:.0}° off the autopilot's demand (beyond {:.0}°, ArduCopter's crash-check deviation): control lost (a failure, a collision or a tumble)",
-            w.to_degrees(),
-            LOST_CONTROL_RAD.to_degrees()
-        );
-    }
-    cuts
+    spans
+        .into_iter()
+        .map(|(from, to, worst)| {
+            span(
+                from,
+                to,
+                &format!(
+                    "attitude up to {:.0}° off the autopilot's demand (beyond {:.0}°, ArduCopter's crash-check deviation): control lost (a failure, a collision or a tumble)",
+                    worst.to_degrees(),
+                    LOST_CONTROL_RAD.to_degrees()
+                ),
+            )
+        })
+        .collect()
 }
 
 /// Where the ground time came from.
@@ -239,7 +241,7 @@ fn autopilot_ground(in_air: &Series<1>) -> Vec<Cut> {
         match (flying, ground_from) {
             (false, None) => ground_from = Some(*t),
             (true, Some(from)) => {
-                cuts.push(ground(
+                cuts.push(span(
                     from,
                     *t,
                     "on the ground (the autopilot's land detector or arming state)",
@@ -250,7 +252,7 @@ fn autopilot_ground(in_air: &Series<1>) -> Vec<Cut> {
         }
     }
     if let Some(from) = ground_from {
-        cuts.push(ground(
+        cuts.push(span(
             from,
             f64::INFINITY,
             "on the ground (the autopilot's land detector or arming state)",
@@ -260,7 +262,7 @@ fn autopilot_ground(in_air: &Series<1>) -> Vec<Cut> {
 }
 
 /// A cut of `[from, to]` (s) whose gap is the same stretch.
-fn ground(from: f64, to: f64, reason: &str) -> Cut {
+fn span(from: f64, to: f64, reason: &str) -> Cut {
     Cut {
         from_s: from,
         to_s: to,
@@ -280,14 +282,14 @@ fn data_ground(ch: &Channels) -> Vec<Cut> {
         match (u[0] <= IDLE_COLLECTIVE, idle_from) {
             (true, None) => idle_from = Some(*t),
             (false, Some(from)) => {
-                cuts.push(ground(from, *t, IDLE_REASON));
+                cuts.push(span(from, *t, IDLE_REASON));
                 idle_from = None;
             }
             _ => {}
         }
     }
     if let Some(from) = idle_from {
-        cuts.push(ground(from, f64::INFINITY, IDLE_REASON));
+        cuts.push(span(from, f64::INFINITY, IDLE_REASON));
     }
     cuts
 }

@@ -203,16 +203,7 @@ pub fn merge_held<const N: usize, const M: usize, const K: usize>(
     b: &Series<M>,
     f: impl Fn(&[f64; N], &[f64; M]) -> [f64; K],
 ) -> Series<K> {
-    let mut out = Series::default();
-    let mut cursor = 0usize;
-    for (t, x) in a.t.iter().zip(&a.v) {
-        if b.t.first().is_some_and(|t0| t0 <= t) {
-            if let Some(y) = b.at(*t, &mut cursor, true) {
-                out.push(*t, f(x, &y));
-            }
-        }
-    }
-    out
+    merge_recent(a, b, f64::INFINITY, f)
 }
 
 /// The difference `a − b` of two angles (rad), wrapped to [−π, π): a roll of 179° against a
