@@ -34,36 +34,8 @@ else
 fi
 start=$(date +%s)
 
-# fly PLANT VARIATION|"" K DIR: the four flights and the two identifications of seed pair K
-# (the flights and metrics are kept when the directory already has them: SEEDS_WORK).
-fly() {
-  local plant=$1 variation=$2 k=$3 dir=$4 v=$((100 + $3))
-  local pv=()
-  [ -z "$variation" ] || pv=(--plant-variation "$variation")
-  [ -f "$dir/envelope/metrics.json" ] && return 0
-  mkdir -p "$dir"
-  (
-    cd "$dir"
-    "$bin" simulate --plant "$plant" "${pv[@]}" --kind identification --seed "$k" -o ident.csv
-    "$bin" simulate --plant "$plant" "${pv[@]}" --kind verification --seed "$v" --duration 300 -o verify.csv
-    "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope --seed "$k" -o envelope.csv
-    "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope-verification --seed "$v" -o envelope-verify.csv
-    "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
-    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
-  ) >"$dir.log" 2>&1 || echo "$plant ${variation:+variation $variation }pair $k: failed (see its log)" >&2
-}
-
-pids=()
-for plant in xcell60 flybarless600; do
-  for variation in "" $(seq 1 "$variations"); do
-    for k in $(seq 1 "$pairs"); do
-      fly "$plant" "$variation" "$k" "$work/$plant${variation:+-v$variation}-$k" &
-      pids+=($!)
-      # Two pairs at a time (one per core).
-      if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
-    done
-  done
-done
-for p in "${pids[@]}"; do wait "$p" || true; done
+# shellcheck source=scripts/lib/pairs.sh
+. scripts/lib/pairs.sh
+fly_pairs "$work" "$pairs" "$variations"
 python3 scripts/seeds_report.py "$work" "$pairs" "$(($(date +%s) - start))" "$variations" >"$output"
 echo "wrote $output"

@@ -17,32 +17,9 @@ bin="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 start=$(date +%s)
-rows=$((seconds * 50 + 1)) # 50 Hz samples and the header
-
-fly() {
-  local plant=$1 k=$2 dir=$3 v=$((100 + $2))
-  mkdir -p "$dir"
-  (
-    cd "$dir"
-    "$bin" simulate --plant "$plant" --kind identification --seed "$k" --duration "$seconds" -o ident.csv
-    "$bin" simulate --plant "$plant" --kind verification --seed "$v" --duration 300 -o verify.csv
-    "$bin" simulate --plant "$plant" --kind envelope --seed "$k" -o envelope-full.csv
-    head -n "$rows" envelope-full.csv >envelope.csv
-    "$bin" simulate --plant "$plant" --kind envelope-verification --seed "$v" -o envelope-verify.csv
-    "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
-    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
-  ) >"$dir.log" 2>&1 || echo "$plant pair $k: failed (see its log)" >&2
-}
-
-pids=()
-for plant in xcell60 flybarless600; do
-  for k in $(seq 1 "$pairs"); do
-    fly "$plant" "$k" "$work/$plant-$k" &
-    pids+=($!)
-    if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
-  done
-done
-for p in "${pids[@]}"; do wait "$p" || true; done
+# shellcheck source=scripts/lib/pairs.sh
+. scripts/lib/pairs.sh
+TRAIN_S=$seconds fly_pairs "$work" "$pairs" 0
 elapsed=$(($(date +%s) - start))
 
 python3 - "$work" "$pairs" "$seconds" "$elapsed" "$output" <<'PY'

@@ -1,0 +1,49 @@
+# Sourced by scripts/seeds.sh and scripts/short-logs.sh: the hover and envelope pairs of a
+# plant and seed pair, flown by `rotorid simulate` and scored by `rotorid identify`.
+# Needs `bin` (the `rotorid` binary). TRAIN_S, when set, keeps only the first TRAIN_S seconds
+# of both training flights (short-logs.sh).
+
+# fly_pair PLANT VARIATION|"" K DIR: the four flights of seed pair K (training seed K,
+# verification seed 100 + K) and the two identifications, in DIR (kept when DIR already has
+# them: seeds.sh's SEEDS_WORK); a failure is told, not fatal.
+fly_pair() {
+  local plant=$1 variation=$2 k=$3 dir=$4 v=$((100 + $3))
+  local pv=() duration=()
+  [ -z "$variation" ] || pv=(--plant-variation "$variation")
+  [ -z "${TRAIN_S:-}" ] || duration=(--duration "$TRAIN_S")
+  [ -f "$dir/envelope/metrics.json" ] && return 0
+  mkdir -p "$dir"
+  (
+    cd "$dir"
+    "$bin" simulate --plant "$plant" "${pv[@]}" --kind identification --seed "$k" "${duration[@]}" -o ident.csv
+    "$bin" simulate --plant "$plant" "${pv[@]}" --kind verification --seed "$v" --duration 300 -o verify.csv
+    if [ -n "${TRAIN_S:-}" ]; then
+      # The envelope flight's schedule has a fixed length: it is cut after simulating (its
+      # 50 Hz rows and the header).
+      "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope --seed "$k" -o envelope-full.csv
+      head -n "$((TRAIN_S * 50 + 1))" envelope-full.csv >envelope.csv
+    else
+      "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope --seed "$k" -o envelope.csv
+    fi
+    "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope-verification --seed "$v" -o envelope-verify.csv
+    "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
+    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+  ) >"$dir.log" 2>&1 || echo "$plant ${variation:+variation $variation }pair $k: failed (see its log)" >&2
+}
+
+# fly_pairs WORK PAIRS VARIATIONS: both airframes, the airframe itself and its variations
+# 1..VARIATIONS, each through seed pairs 1..PAIRS, two at a time (one per core), into
+# WORK/PLANT[-vVARIATION]-K.
+fly_pairs() {
+  local work=$1 pairs=$2 variations=$3 pids=() plant variation k p
+  for plant in xcell60 flybarless600; do
+    for variation in "" $(seq 1 "$variations"); do
+      for k in $(seq 1 "$pairs"); do
+        fly_pair "$plant" "$variation" "$k" "$work/$plant${variation:+-v$variation}-$k" &
+        pids+=($!)
+        if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
+      done
+    done
+  done
+  for p in "${pids[@]}"; do wait "$p" || true; done
+}
