@@ -165,8 +165,8 @@ pub fn window_cuts(from_s: Option<f64>, to_s: Option<f64>) -> Vec<Cut> {
 
 /// Attitude tracking error beyond which control counts as lost (rad): 30°, the angle
 /// deviation of ArduCopter's crash check (`CRASH_CHECK_ANGLE_DEVIATION_DEG`). A controlled
-/// vehicle tracks its demand within a few degrees (the p99 of a real quadrotor's flight before
-/// its mechanical failure: 5.5°); a tumble after a failure or a collision is 30° to 100° off.
+/// vehicle tracks its demand within a few degrees; a tumble after a failure or a collision is
+/// far beyond (the committed `ekf_failure.ulg`'s final tumble: 113°, see docs/real-logs.md).
 pub const LOST_CONTROL_RAD: f64 = 30.0 * std::f64::consts::PI / 180.0;
 /// Time left out on each side of a sample beyond [`LOST_CONTROL_RAD`] (s): the error grows
 /// for a moment before it passes the bound, and the vehicle needs a moment to recover after.
