@@ -140,8 +140,10 @@ fn generated_heli_logs_round_trip() {
 }
 
 /// A CSV log at 100 Hz (the 50 Hz flight with a sample halfway between each two: states
-/// interpolated, controls held) is put back on the 50 Hz grid, with a note; the 50 Hz log
-/// itself is taken as it is.
+/// interpolated, controls held) is put back on the 50 Hz grid, with a note: the states as
+/// they were, each control the mean of the two rows logged since the previous grid time
+/// (the row halfway, which holds the previous command, and the row at the grid time); the
+/// 50 Hz log itself is taken as it is.
 #[test]
 fn csv_logs_at_another_rate_are_resampled_at_50_hz() {
     // Time stamps on whole microseconds, as a log's are (and the resampling grid is).
@@ -191,8 +193,14 @@ fn csv_logs_at_another_rate_are_resampled_at_50_hz() {
     assert_eq!(imported.segments.len(), 1);
     let seg = &imported.segments[0];
     assert_eq!(seg.len(), flight.len());
-    for (a, b) in seg.iter().zip(&flight) {
-        let (x, y) = (rotorid_cli::log::values(a), rotorid_cli::log::values(b));
+    for (k, (a, b)) in seg.iter().zip(&flight).enumerate() {
+        let (x, mut y) = (rotorid_cli::log::values(a), rotorid_cli::log::values(b));
+        if k > 0 {
+            let before = rotorid_cli::log::values(&flight[k - 1]);
+            for i in 1..=4 {
+                y[i] = (before[i] + y[i]) / 2.0;
+            }
+        }
         for (i, (x, y)) in x.iter().zip(y.iter()).enumerate() {
             assert!(
                 (x - y).abs() <= 1e-9 * y.abs().max(1.0),

@@ -3,7 +3,11 @@
 //! - States (attitude, velocity, rates) are interpolated linearly between the two samples
 //!   around each grid time; yaw is unwrapped first and wrapped back to (−π, π].
 //! - Controls are held (zero-order hold): a command applies from its time stamp until the next,
-//!   as in the CSV format.
+//!   as in the CSV format. Below the log's own rate, each grid time gets the mean of the
+//!   commands logged since the previous grid time, `(t_k − Δt, t_k]`: a rate controller's
+//!   output changes within a 100 ms step, and one point sample of it is aliased noise (a
+//!   causal boxcar decimator, as a flight computer would decimate). At or above the log's
+//!   rate a step holds one command or none, and gets the held value bit for bit.
 //! - A **gap** is an interval over [`MAX_SOURCE_GAP_S`] between two finite samples of any
 //!   channel (a non-finite sample counts as missing). The log is split there, and into the
 //!   span where every channel has data, giving [`Segment`]s; grids start at each segment's
@@ -192,6 +196,35 @@ impl<const N: usize> Series<N> {
         let (t1, v1) = (*self.t.get(*cursor + 1)?, *self.v.get(*cursor + 1)?);
         let a = (t - t0) / (t1 - t0);
         Some(core::array::from_fn(|i| v0[i] + a * (v1[i] - v0[i])))
+    }
+
+    /// Mean of the samples stamped in `(t − step, t]`, or the held value at `t` when there is
+    /// none: decimation by averaging what was logged since the previous grid time (a causal
+    /// boxcar, the anti-aliasing a point sample lacks). A step with one sample in it gets
+    /// that sample bit for bit, so at or above the log's own rate this is the held value.
+    /// `cursor` as in [`at`](Self::at).
+    fn mean_since(&self, t: f64, step: f64, cursor: &mut usize) -> Option<[f64; N]> {
+        let held = self.at(t, cursor, true)?;
+        // Half a µs of slack: log time stamps are whole µs, and `t − step` rounded must not
+        // take in the sample one step back when the log's rate is the grid's.
+        let from = t - step + 0.5e-6;
+        let mut sum = [0.0; N];
+        let mut n = 0u32;
+        for (&ti, vi) in self.t[..=*cursor].iter().zip(&self.v[..=*cursor]).rev() {
+            if ti <= from {
+                break;
+            }
+            if ti <= t {
+                for (s, x) in sum.iter_mut().zip(vi) {
+                    *s += x;
+                }
+                n += 1;
+            }
+        }
+        Some(match n {
+            0 | 1 => held,
+            n => sum.map(|s| s / f64::from(n)),
+        })
     }
 }
 
@@ -423,7 +456,7 @@ pub fn resample_at(ch: &Channels, rate_hz: f64, cuts: &[Cut]) -> Vec<Segment> {
                 attitude.at(t, &mut cursors[0], false),
                 ch.velocity_ned.at(t, &mut cursors[1], false),
                 ch.rates_frd.at(t, &mut cursors[2], false),
-                ch.controls.at(t, &mut cursors[3], true),
+                ch.controls.mean_since(t, 1.0 / rate_hz, &mut cursors[3]),
             ) else {
                 break;
             };
@@ -471,6 +504,28 @@ mod tests {
             controls: series(ts, |t| [0.5, t, 0.0, 0.0]),
             in_air: Series::default(),
             attitude_error: Series::default(),
+        }
+    }
+
+    #[test]
+    fn below_the_logs_rate_a_control_is_the_mean_since_the_last_grid_time() {
+        // Controls at 40 Hz, states at 40 Hz, grid at 10 Hz: the grid time 0.5 s gets the mean
+        // of the commands stamped in (0.4, 0.5], i.e. at 0.425, 0.45, 0.475 and 0.5 s.
+        // Stamped on whole µs, as the grid is.
+        let ts: Vec<f64> = (0..=40).map(|k| f64::from(k * 25_000) / 1e6).collect();
+        let seg = resample_at(&channels(&ts), 10.0, &[]);
+        let x = seg[0].iter().find(|x| (x.t - 0.5).abs() < 1e-9).unwrap();
+        let mean = (0.425 + 0.45 + 0.475 + 0.5) / 4.0;
+        assert!((x.sticks.ped - mean).abs() < 1e-12, "{}", x.sticks.ped);
+        assert_eq!(
+            x.sticks.col.to_bits(),
+            0.5f64.to_bits(),
+            "a constant stays bit for bit"
+        );
+        // At the log's own rate a step holds one command: the held value, bit for bit.
+        let same = resample_at(&channels(&ts), 40.0, &[]);
+        for (x, t) in same[0].iter().zip(&ts) {
+            assert_eq!(x.sticks.ped.to_bits(), t.to_bits(), "at {t}");
         }
     }
 
