@@ -98,7 +98,8 @@ def summary(runs):
         train_s = m["training_samples"] / m["rate_hz"]
         off = (m.get("verdict") or {}).get("terms_off") or []
         how = (f"{len(off)} terms off" if off else
-               "every term kept" + (" (too short to check on)" if train_s < 24 else ""))
+               "every term kept" + ("" if (m.get("verdict") or {}).get("terms_checked")
+                                    else " (too short to check on)"))
         verdict = m.get("verdict") or {}
         fly = verdict.get("model", "—") if verdict.get("fly", True) else "none"
         rows.append(f"| `{os.path.basename(log)}` | {train_s:.0f} s | " + " | ".join(cells)

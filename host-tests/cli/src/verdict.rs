@@ -110,6 +110,12 @@ pub struct Verdict {
     /// selected`, whether or not it is the model chosen.
     #[serde(default)]
     pub terms_off: Vec<String>,
+    /// Whether the training data were long enough for the term selection to check
+    /// candidates on ([`selects_from`](crate::experiments::selects_from)); when false,
+    /// `flight selected` keeps every term because nothing could be checked, not because the
+    /// data support them all.
+    #[serde(default)]
+    pub terms_checked: bool,
 }
 
 /// Geometric mean of free run / hold over the six axes; `None` if any is not finite or the
@@ -234,9 +240,10 @@ pub fn verdict(
         ));
     }
     let n: usize = training.iter().map(Vec::len).sum();
+    let terms_checked = crate::experiments::selects_from(n, rate_hz);
     let min = (MIN_TRAINING_SAMPLES as f64 * rate_hz / 50.0) as usize;
     if n < min {
-        let selection = if crate::experiments::selects_from(n, rate_hz) {
+        let selection = if terms_checked {
             ""
         } else {
             "; too little to choose the flight default's terms from the data (`flight selected` keeps every term)"
@@ -266,6 +273,7 @@ pub fn verdict(
         fly,
         why,
         terms_off,
+        terms_checked,
         axes,
         scores,
         caveats,

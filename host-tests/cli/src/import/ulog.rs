@@ -254,40 +254,41 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         rates_frd.is_none(),
         controls.is_none(),
     ];
-    // Every missing quantity in one error: the first, and the others after it.
-    let velocity = if acc.any_velocity {
-        (
-            "valid velocity",
-            "`vehicle_local_position` rows with `v_xy_valid` and `v_z_valid` set",
-        )
-    } else {
-        ("velocity", "`vehicle_local_position` `vx vy vz`")
-    };
-    let missing = [
-        ("attitude", "`vehicle_attitude` `q[0..4]`"),
-        velocity,
-        (
-            "body rates",
-            "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
-        ),
-        (
-            "helicopter controls",
-            "`vehicle_torque_setpoint` + `vehicle_thrust_setpoint`, `actuator_controls_0`",
-        ),
-    ]
-    .into_iter()
-    .zip(absent)
-    .filter_map(|(what, absent)| absent.then_some(what));
-    if let Some(e) = ImportError::missing_all(file, FORMAT, missing, remark, None) {
-        return Err(e);
-    }
     let (Some(attitude), Some(velocity_ned), Some(rates_frd), Some(controls)) =
         (attitude, velocity_ned, rates_frd, controls)
     else {
-        // Not taken: every quantity is present once none is missing above.
-        return Err(ImportError::NotALog {
-            file: file.to_string(),
-        });
+        // Every missing quantity in one error: the first, and the others after it.
+        let velocity = if acc.any_velocity {
+            (
+                "valid velocity",
+                "`vehicle_local_position` rows with `v_xy_valid` and `v_z_valid` set",
+            )
+        } else {
+            ("velocity", "`vehicle_local_position` `vx vy vz`")
+        };
+        let missing = [
+            ("attitude", "`vehicle_attitude` `q[0..4]`"),
+            velocity,
+            (
+                "body rates",
+                "`vehicle_angular_velocity` `xyz`, `vehicle_attitude` `rollspeed pitchspeed yawspeed`",
+            ),
+            (
+                "helicopter controls",
+                "`vehicle_torque_setpoint` + `vehicle_thrust_setpoint`, `actuator_controls_0`",
+            ),
+        ]
+        .into_iter()
+        .zip(absent)
+        .filter_map(|(what, absent)| absent.then_some(what));
+        // One of the four is `None` here, so the list is not empty.
+        return Err(
+            ImportError::missing_all(file, FORMAT, missing, remark, None).unwrap_or(
+                ImportError::NotALog {
+                    file: file.to_string(),
+                },
+            ),
+        );
     };
     let in_air = if acc.landed.t.is_empty() {
         acc.armed
