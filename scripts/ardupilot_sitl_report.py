@@ -19,6 +19,21 @@ FLIGHTS = {
 }
 
 
+def delay_line(m):
+    """The controls' delay identify applied, and how each candidate scored."""
+    d = m.get("control_delay")
+    if d is None:
+        return "controls' delay: none applied (too little training data to choose one)"
+    def cell(c):
+        score = "—" if c["score"] is None else f"{c['score']:.2f}"
+        n = c['diverged']
+        diverged = f" ({n} window{'s' if n != 1 else ''} diverged)" if n else ""
+        return f"{c['delay_s'] * 1e3:.0f} ms {score}{diverged}"
+    scores = ", ".join(cell(c) for c in d.get("scores", []))
+    how = (f"chosen on the training data (the flight default's free run / hold, geometric "
+           f"mean over the six states, per candidate: {scores})" if scores else "given")
+    return f"controls delayed by {d['delay_s'] * 1e3:.0f} ms, {how}"
+
 def fmt_rate(r):
     return "—" if r is None else f"{r:.1f} Hz"
 
@@ -53,6 +68,7 @@ def section(log, run):
             b = "end" if b is None else f"{b:.2f} s"
             lines.append(f"- cut {a} to {b}: {why}")
     lines.append(f"- {m['split']}")
+    lines.append(f"- {delay_line(m)}")
     lines.append("")
     v = {x["name"]: x for x in m["variants"]}
     flight, plain = v["flight"], v["extended plain"]

@@ -12,6 +12,21 @@ AXES = ["east velocity (m/s)", "down velocity (m/s)", "north velocity (m/s)",
 ORDER = [2, 0, 1, 5, 3, 4]
 
 
+def delay_line(m):
+    """The controls' delay identify applied, and how each candidate scored."""
+    d = m.get("control_delay")
+    if d is None:
+        return "controls' delay: none applied (too little training data to choose one)"
+    def cell(c):
+        score = "—" if c["score"] is None else f"{c['score']:.2f}"
+        n = c['diverged']
+        diverged = f" ({n} window{'s' if n != 1 else ''} diverged)" if n else ""
+        return f"{c['delay_s'] * 1e3:.0f} ms {score}{diverged}"
+    scores = ", ".join(cell(c) for c in d.get("scores", []))
+    how = (f"chosen on the training data (the flight default's free run / hold, geometric "
+           f"mean over the six states, per candidate: {scores})" if scores else "given")
+    return f"controls delayed by {d['delay_s'] * 1e3:.0f} ms, {how}"
+
 def fmt_rate(r):
     return "—" if r is None else f"{r:.1f} Hz"
 
@@ -41,6 +56,7 @@ def section(log, run):
             b = "end" if b is None else f"{b:.2f} s"
             lines.append(f"- cut {a} to {b}: {why}")
     lines.append(f"- {m['split']}")
+    lines.append(f"- {delay_line(m)}")
     lines.append("")
     v = {x["name"]: x for x in m["variants"]}
     flight, plain, selected = v["flight"], v["extended plain"], v["flight selected"]
@@ -102,15 +118,20 @@ def summary(runs):
                                     else " (too short to check on)"))
         verdict = m.get("verdict") or {}
         fly = verdict.get("model", "—") if verdict.get("fly", True) else "none"
-        rows.append(f"| `{os.path.basename(log)}` | {train_s:.0f} s | " + " | ".join(cells)
+        d = m.get("control_delay")
+        delay = "—" if d is None else f"{d['delay_s'] * 1e3:.0f} ms"
+        rows.append(f"| `{os.path.basename(log)}` | {train_s:.0f} s | {delay} | " + " | ".join(cells)
                     + f" | {how} | {fly} |")
     out = ["## Pitch and roll against hold, every log", "",
            "Free run / hold on the held-out part (below 1: the model predicts the rate better than "
            "holding it). The selection needs at least 24 s of training data (six blocks of two "
-           "2 s windows); with less, *selected* keeps every term. The last column is the "
-           "verdict's model to fly (none: the log identifies none, see its section).", "",
-           "| log | training | flight q | flight p | selected q | selected p | selection | model to fly |",
-           "|---|---:|---:|---:|---:|---:|---|---|", *rows, ""]
+           "2 s windows); with less, *selected* keeps every term, and no controls' delay is "
+           "chosen (the delay column: how much later than logged the controls were taken to act, "
+           "chosen on the same blocks by the flight default's free run, 0 to 150 ms in whole "
+           "steps). The last column is the verdict's model to fly (none: the log identifies "
+           "none, see its section).", "",
+           "| log | training | controls' delay | flight q | flight p | selected q | selected p | selection | model to fly |",
+           "|---|---:|---:|---:|---:|---:|---:|---|---|", *rows, ""]
     if missing:
         out += [f"Not identified (one line each, below): {', '.join(f'`{n}`' for n in missing)}.", ""]
     return out

@@ -59,6 +59,11 @@ pub struct IdentifyOptions {
     /// Use the logs only up to this log time (s).
     #[arg(long)]
     pub to: Option<f64>,
+    /// How much later than logged the controls act on the airframe (s, 0 to 1): motors,
+    /// servos and rotor lag. Default: chosen on the training data of an autopilot's log
+    /// (0 to 150 ms, by the flight default's free run; the verdict says which), 0 for CSV.
+    #[arg(long, value_parser = parse_control_delay)]
+    pub control_delay: Option<f64>,
     /// Print every variant's tables, the Table 4 analogue and every import note, not only
     /// the verdict.
     #[arg(long)]
@@ -112,6 +117,7 @@ impl IdentifyOptions {
                 from_s: self.from,
                 to_s: self.to,
             },
+            control_delay_s: self.control_delay,
             full: self.full,
             out: Some(self.out),
             window: self.window,
@@ -143,6 +149,16 @@ pub fn parse_rate(text: &str) -> Result<RateArg, String> {
         }
         _ => Err(format!(
             "`{text}` is not an identification rate: auto, or Hz from 1 to 1000 whose period is a whole number of µs (50, 25, 20, 10, …)"
+        )),
+    }
+}
+
+/// Parses `--control-delay`: seconds from 0 to 1.
+pub fn parse_control_delay(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(d) if (0.0..=1.0).contains(&d) => Ok(d),
+        _ => Err(format!(
+            "`{text}` is not a control delay: seconds from 0 to 1 (0.04 for 40 ms)"
         )),
     }
 }

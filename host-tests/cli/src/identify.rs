@@ -64,6 +64,9 @@ pub struct IdentifyArgs {
     pub free_run_velocity: experiments::FreeRunVelocity,
     /// The one-step observer's gain.
     pub observer_gain: ObserverGain,
+    /// How much later than logged the controls act (s); `None`: chosen on the training data
+    /// when every log is an autopilot's ([`experiments::select_delay`]), 0 for CSV logs.
+    pub control_delay_s: Option<f64>,
 }
 
 impl IdentifyArgs {
@@ -83,6 +86,7 @@ impl IdentifyArgs {
             gyro_noise: GyroNoise::Auto,
             free_run_velocity: experiments::FreeRunVelocity::Model,
             observer_gain: ObserverGain::Auto,
+            control_delay_s: None,
         }
     }
 }
@@ -221,6 +225,9 @@ pub enum IdentifyError {
     /// The f32 against f64 comparison failed.
     #[error("comparing f32 with f64")]
     Precision(#[source] rotorid::Error),
+    /// The controls' delay could not be chosen (an identifier refused its configuration).
+    #[error("choosing the controls' delay")]
+    Delay(#[source] rotorid::Error),
     /// A figure cannot be drawn or written.
     #[error(transparent)]
     Figure(#[from] FigureError),
@@ -358,6 +365,72 @@ fn read_all(
 }
 
 /// The same file given twice (by path or by content).
+/// The controls' delay ([`experiments::select_delay`]): `--control-delay`'s, or chosen on the
+/// training data when every log is an autopilot's (a CSV's sticks act at their time stamps,
+/// as the simulators' do); applied to the training and the verification data, and said in a
+/// note.
+fn control_delay(
+    args: &IdentifyArgs,
+    imported: &[import::Imported],
+    split: &mut crate::holdout::Split,
+    rate_hz: f64,
+    progress: &mut dyn Progress,
+) -> Result<Option<experiments::DelaySelection>, IdentifyError> {
+    let autopilot = imported
+        .iter()
+        .all(|im| im.format != import::LogFormat::Csv);
+    let chosen = match args.control_delay_s {
+        // A whole number of steps, as the chosen delays are.
+        Some(given) => Some(experiments::DelaySelection {
+            delay_s: (given * rate_hz).round() / rate_hz,
+            scores: Vec::new(),
+        }),
+        None if autopilot => {
+            let period = experiments::period_us(rate_hz);
+            let chosen =
+                experiments::select_delay(&split.training, period).map_err(IdentifyError::Delay)?;
+            if chosen.is_none() {
+                progress.note(
+                    "note: too little training data to choose the controls' delay: taken as 0 (--control-delay sets it)",
+                );
+            }
+            chosen
+        }
+        None => None,
+    };
+    let Some(d) = &chosen else {
+        return Ok(None);
+    };
+    let steps = (d.delay_s * rate_hz).round() as usize;
+    for log in &mut split.training {
+        *log = experiments::delayed(log, steps);
+    }
+    split.verification = experiments::delayed(&split.verification, steps);
+    let none = d.scores.first().and_then(|s| s.score);
+    let best = d
+        .scores
+        .iter()
+        .find(|s| s.delay_s == d.delay_s)
+        .and_then(|s| s.score);
+    progress.note(&match (d.scores.is_empty(), none, best) {
+        (true, ..) => format!(
+            "controls delayed by {:.0} ms (--control-delay, in whole {:.0} ms steps)",
+            d.delay_s * 1e3,
+            1e3 / rate_hz
+        ),
+        (false, Some(none), Some(best)) => format!(
+            "controls delayed by {:.0} ms, chosen on the training data by the flight default's free run ({best:.2} of hold against {none:.2} with none; 0 to {:.0} ms tried; --control-delay sets it)",
+            d.delay_s * 1e3,
+            experiments::MAX_CONTROL_DELAY_S * 1e3
+        ),
+        (false, ..) => format!(
+            "controls delayed by {:.0} ms, chosen on the training data by the flight default's free run (--control-delay sets it)",
+            d.delay_s * 1e3
+        ),
+    });
+    Ok(chosen)
+}
+
 fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) if x == y => return true,
@@ -424,7 +497,7 @@ pub fn identify_with(
             }
         }
     }
-    let split = match (&args.verify, imported.last()) {
+    let mut split = match (&args.verify, imported.last()) {
         (Some(v), Some(im)) => {
             let longest = im
                 .longest()
@@ -448,6 +521,7 @@ pub fn identify_with(
         .verify
         .as_ref()
         .map_or_else(|| "held-out data".to_string(), |v| v.display().to_string());
+    let control_delay = control_delay(args, &imported, &mut split, rate_hz, progress)?;
     if split.verification.len() < 2 {
         return Err(IdentifyError::TooFewSamples(PathBuf::from(&verify_name)));
     }
@@ -581,7 +655,16 @@ pub fn identify_with(
             ));
         }
     }
-    let verdict = crate::verdict::verdict(&results, &split.training, rate_hz);
+    let mut verdict = crate::verdict::verdict(&results, &split.training, rate_hz);
+    if let (Some(v), Some(d)) = (&mut verdict, &control_delay) {
+        if d.delay_s > 0.0 {
+            v.caveats.push(format!(
+                "the controls act {:.0} ms after they are logged ({}): the models were learnt with them delayed so, and a model flown onboard must be fed them as late",
+                d.delay_s * 1e3,
+                if d.scores.is_empty() { "--control-delay" } else { "chosen on the training data" }
+            ));
+        }
+    }
     match &verdict {
         Some(v) => progress.print(&crate::verdict::format_verdict(v, window)),
         None => progress.print(
@@ -614,6 +697,7 @@ pub fn identify_with(
             .collect(),
         verdict,
         derivatives: Some(derivatives),
+        control_delay,
     };
     let mut figures = 0;
     if let Some(out) = out {

@@ -8,6 +8,7 @@
 //! * [`ParametersError`], [`EvaluateError`]: what can fail on the way.
 
 mod catalogue;
+mod delay;
 mod error;
 mod evaluation;
 mod regimes;
@@ -16,6 +17,7 @@ mod table4;
 mod variants;
 
 pub use catalogue::*;
+pub use delay::*;
 pub use error::*;
 pub use evaluation::*;
 pub use regimes::*;

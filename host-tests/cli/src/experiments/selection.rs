@@ -199,12 +199,12 @@ pub fn masked_flight(
 
 /// The training data cut into learning chains and held-out check blocks (see the module
 /// docs).
-struct Split {
+pub(super) struct Split {
     learn: Vec<Vec<HoverSample<f32>>>,
     check: Vec<Vec<HoverSample<f32>>>,
 }
 
-fn split(training: &[Vec<HoverSample<f32>>], block: usize, fold: usize) -> Split {
+pub(super) fn split(training: &[Vec<HoverSample<f32>>], block: usize, fold: usize) -> Split {
     let mut learn: Vec<Vec<HoverSample<f32>>> = Vec::new();
     let mut check = Vec::new();
     let mut index = 0usize;
@@ -231,7 +231,7 @@ fn split(training: &[Vec<HoverSample<f32>>], block: usize, fold: usize) -> Split
 
 /// Free run / hold per state of `mask`'s flight identifier, learnt on each fold's learning
 /// chains and run free on its check blocks, summed over the folds.
-fn score(
+pub(super) fn score(
     mask: TermMask,
     folds: &[Split],
     period_us: u32,
@@ -270,11 +270,11 @@ fn score(
 
 /// A candidate's free run on the check blocks.
 #[derive(Clone, Copy, Debug)]
-struct Score {
+pub(super) struct Score {
     /// Windows whose state left the core's sample limits (the run stops there).
-    diverged: usize,
+    pub(super) diverged: usize,
     /// Free run / hold per state `[v_x v_y v_z q r p]` over the steps run.
-    ratios: [f64; 6],
+    pub(super) ratios: [f64; 6],
 }
 
 impl Score {
@@ -307,7 +307,7 @@ fn model_score(ratios: &[f64; 6], m: usize) -> f64 {
 /// Samples per block for `samples` of training data: [`BLOCK_S`], or `2 FOLDS` equal blocks
 /// when the data are shorter than that many; `None` when such a block would hold fewer than
 /// [`MIN_WINDOWS_PER_BLOCK`] windows of `window` samples.
-fn block_length(samples: usize, rate_hz: f64, window: usize) -> Option<usize> {
+pub(super) fn block_length(samples: usize, rate_hz: f64, window: usize) -> Option<usize> {
     let full = (BLOCK_S * rate_hz).round().max(1.0) as usize;
     let block = full.min(samples / (2 * FOLDS));
     (block >= MIN_WINDOWS_PER_BLOCK * window).then_some(block)
@@ -320,7 +320,7 @@ pub fn selects_from(samples: usize, rate_hz: f64) -> bool {
 }
 
 /// Samples in one [`SELECTION_WINDOW_S`] free-run window at `rate_hz`.
-fn window_samples(rate_hz: f64) -> usize {
+pub(super) fn window_samples(rate_hz: f64) -> usize {
     (SELECTION_WINDOW_S * rate_hz).round().max(1.0) as usize
 }
 

@@ -82,6 +82,10 @@ pub struct Metrics {
     /// The decision: the model to fly, per axis, and what the logs could not show.
     #[serde(default)]
     pub verdict: Option<crate::verdict::Verdict>,
+    /// The controls' delay applied to the training and verification data, and how each
+    /// candidate scored when it was chosen from the data (`null`: none, as for CSV logs).
+    #[serde(default)]
+    pub control_delay: Option<crate::experiments::DelaySelection>,
     /// Body-axis stability and control derivatives of the training data, per operating
     /// region, with standard errors corrected for coloured residuals
     /// ([`crate::derivatives`]).
