@@ -197,7 +197,7 @@ fn parse_observer_gain(text: &str) -> PyResult<ident::ObserverGain> {
 /// its notes and warnings. With `out`, writes metrics.json, params-*.json and (`plots`) the
 /// figures there.
 #[pyfunction]
-#[pyo3(signature = (train, verify=None, holdout=0.3, rate=None, from_s=None, to_s=None, out=None, window=2.0, plots=true, warm_start=None, gyro_noise="auto", free_run_velocity="model", observer_gain="auto"))]
+#[pyo3(signature = (train, verify=None, holdout=0.3, rate=None, from_s=None, to_s=None, out=None, window=2.0, plots=true, warm_start=None, gyro_noise="auto", free_run_velocity="model", observer_gain="auto", control_delay=None))]
 #[allow(clippy::too_many_arguments)]
 fn identify(
     py: Python<'_>,
@@ -214,10 +214,16 @@ fn identify(
     gyro_noise: &str,
     free_run_velocity: &str,
     observer_gain: &str,
+    control_delay: Option<f64>,
 ) -> PyResult<(String, String, String, Vec<String>)> {
     if !(holdout.is_finite() && holdout > 0.0 && holdout < 1.0) {
         return Err(errors::input(format!(
             "holdout must be a fraction in (0, 1), got {holdout}"
+        )));
+    }
+    if let Some(d) = control_delay.filter(|d| !(0.0..=1.0).contains(d)) {
+        return Err(errors::input(format!(
+            "control_delay must be seconds from 0 to 1, got {d}"
         )));
     }
     let args = IdentifyArgs {
@@ -244,6 +250,7 @@ fn identify(
             }
         },
         observer_gain: parse_observer_gain(observer_gain)?,
+        control_delay_s: control_delay,
         ..IdentifyArgs::new(train)
     };
     let result = py.detach(|| {

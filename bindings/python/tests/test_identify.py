@@ -46,15 +46,18 @@ def test_the_commands_options_give_its_bytes(rotorid_bin, logs, monkeypatch):
     assert os.path.exists("warm/params-paper-fuzzy.json")
     flags = ["--free-run-velocity", "measured", "--gyro-noise", "0.25,0.5,0.75",
              "--observer-gain", "0.5", "--warm-start", "warm/params-paper-fuzzy.json",
-             "--window", "1.5", "--train", "train.csv", "--verify", "verify.csv"]
+             "--window", "1.5", "--control-delay", "0.04", "--train", "train.csv",
+             "--verify", "verify.csv"]
     expected = cli_metrics(rotorid_bin, logs["dir"], flags)
     result = rotorid.identify("train.csv", verify="verify.csv", free_run_velocity="measured",
                               gyro_noise=(0.25, 0.5, 0.75), observer_gain=0.5,
-                              warm_start="warm/params-paper-fuzzy.json", window=1.5)
+                              warm_start="warm/params-paper-fuzzy.json", window=1.5,
+                              control_delay=0.04)
     assert result.to_json() == expected
+    assert json.loads(result.to_json())["control_delay"]["delay_s"] == 0.04
     assert result.to_json() != first.to_json()
     for bad in [dict(gyro_noise="loud"), dict(gyro_noise=(1, 2)), dict(observer_gain=1.5),
-                dict(free_run_velocity="fast")]:
+                dict(free_run_velocity="fast"), dict(control_delay=2.0)]:
         with pytest.raises(rotorid.InputError):
             rotorid.identify("train.csv", **bad)
 

@@ -384,6 +384,7 @@ def identify(
     gyro_noise: Union[str, float, Sequence[float]] = "auto",
     free_run_velocity: str = "model",
     observer_gain: Union[str, float, Sequence[float]] = "auto",
+    control_delay: Optional[float] = None,
 ) -> IdentifyResult:
     """Identifies hover models from logs, as ``rotorid identify --train TRAIN... [--verify
     VERIFY] [--holdout H] [--out OUT]`` with its defaults: every variant trained, scored
@@ -397,7 +398,8 @@ def identify(
     The command's other options: ``warm_start`` (a params-*.json), ``gyro_noise`` ("auto",
     "none", a σ or ``(q, r, p)`` σ in deg/s), ``free_run_velocity`` ("model" or
     "measured"), ``observer_gain`` ("auto", a gain or six, 0–1), ``rate`` (Hz),
-    ``from_s``/``to_s`` (s).
+    ``from_s``/``to_s`` (s), ``control_delay`` (s, 0–1: how much later than logged the
+    controls act; default chosen on an autopilot log's training data, 0 for CSV).
 
     Raises ``LogError`` (a log), ``IdentifyError`` (too little data, a file not written),
     ``InputError`` (an argument).
@@ -420,6 +422,7 @@ def identify(
             _option_text(gyro_noise),
             free_run_velocity,
             _option_text(observer_gain),
+            control_delay,
         )
     )
 
