@@ -5,9 +5,10 @@
 //! of milliseconds to spin up), or the servos and the rotor's flapping, act on the airframe
 //! later. The identifier learns `x(k+1)` from `u(k)`, so a command that acts a step late reads
 //! as a weak, noisy control power and drives a free run out of phase. Tried at fixed delays on
-//! the logs committed here (docs/log-format.md), the best delay differs by vehicle, and a wrong
-//! one costs more than none: 100 ms helped every PX4 multicopter and made the flight default's
-//! free run on ArduPilot's SITL helicopter diverge. A one-step least-squares fit does not find
+//! the logs committed here (`rotorid identify LOG --control-delay 0.1`), the best delay differs
+//! by vehicle, and a wrong one costs more than none: 100 ms helped every PX4 multicopter and
+//! made the flight default's free run on ArduPilot's SITL helicopter diverge. A one-step
+//! least-squares fit does not find
 //! it (in closed loop the controller's output tracks the rates it reacts to, and the fits were
 //! best at no delay on the multicopters whose free runs improved most with one), so the delay
 //! is chosen the way [`select_terms`](super::select_terms) chooses terms: by the free run.
@@ -99,11 +100,20 @@ pub fn select_delay(
     };
     // The gyro noise of the rates, which no delay changes.
     let gyro_noise = gyro_noise_of(&hover(training));
+    let candidates = candidates(rate_hz);
+    let longest = candidates.iter().copied().max().unwrap_or(0);
     let mut best: Option<(f64, (usize, f64))> = None;
     let mut scores = Vec::new();
-    for steps in candidates(rate_hz) {
-        let shifted: Vec<Vec<SensorSample>> =
-            training.iter().map(|log| delayed(log, steps)).collect();
+    for steps in candidates {
+        // Every candidate on the same samples: those after the longest delay.
+        let shifted: Vec<Vec<SensorSample>> = training
+            .iter()
+            .map(|log| {
+                let mut log = delayed(log, steps);
+                log.drain(..(longest - steps).min(log.len()));
+                log
+            })
+            .collect();
         let shifted = hover(&shifted);
         let folds: Vec<Split> = (0..FOLDS).map(|f| split(&shifted, block, f)).collect();
         let s = score(TermMask::default(), &folds, period_us, window, gyro_noise)?;
