@@ -289,6 +289,20 @@ fn on_real_logs_the_flight_models_beat_hold_on_pitch_and_roll() {
             continue;
         }
         judged += 1;
+        // The controls' delay was chosen on the training data (every candidate scored), and
+        // the verdict says when one was applied.
+        let delay = &m["control_delay"];
+        assert!(
+            delay["scores"].as_array().is_some_and(|s| s.len() >= 2),
+            "{name}: {delay}"
+        );
+        if delay["delay_s"].as_f64().unwrap() > 0.0 {
+            let caveats = m["verdict"]["caveats"].to_string();
+            assert!(
+                caveats.contains("act") && caveats.contains("after they are logged"),
+                "{name}: {caveats}"
+            );
+        }
         let off = m["verdict"]["terms_off"].as_array().map_or(0, Vec::len);
         assert!(
             off > 0,
