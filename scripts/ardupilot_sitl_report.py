@@ -8,6 +8,8 @@ import json
 import os
 import sys
 
+from import_report import import_lines
+
 AXES = ["east velocity (m/s)", "down velocity (m/s)", "north velocity (m/s)",
         "pitch rate q (deg/s)", "yaw rate r (deg/s)", "roll rate p (deg/s)"]
 ORDER = [2, 0, 1, 5, 3, 4]
@@ -17,25 +19,6 @@ FLIGHTS = {
     "envelope": "low-speed envelope: GUIDED body-frame velocity steps forward 1, 2, 3, 5 m/s "
                 "and right 1, 2, 3 m/s, hover between them",
 }
-
-
-def delay_line(m):
-    """The controls' delay identify applied, and how each candidate scored."""
-    d = m.get("control_delay")
-    if d is None:
-        return "controls' delay: none applied (too little training data to choose one)"
-    def cell(c):
-        score = "—" if c["score"] is None else f"{c['score']:.2f}"
-        n = c['diverged']
-        diverged = f" ({n} window{'s' if n != 1 else ''} diverged)" if n else ""
-        return f"{c['delay_s'] * 1e3:.0f} ms {score}{diverged}"
-    scores = ", ".join(cell(c) for c in d.get("scores", []))
-    how = (f"chosen on the training data (the flight default's free run / hold, geometric "
-           f"mean over the six states, per candidate: {scores})" if scores else "given")
-    return f"controls delayed by {d['delay_s'] * 1e3:.0f} ms, {how}"
-
-def fmt_rate(r):
-    return "—" if r is None else f"{r:.1f} Hz"
 
 
 def ratio(a, b):
@@ -55,20 +38,7 @@ def section(log, run):
                   *(l.replace(os.path.dirname(log) + "/", "") for l in err), "```", ""]
         return lines
     m = json.load(open(os.path.join(run, "metrics.json")))
-    for s in m.get("logs", []):
-        r = s.get("native_rates") or {}
-        lines.append(
-            f"- format {s['format']}; native rates: attitude {fmt_rate(r.get('attitude'))}, "
-            f"velocity {fmt_rate(r.get('velocity'))}, body rates {fmt_rate(r.get('rates'))}, "
-            f"controls {fmt_rate(r.get('controls'))}; identified at {m['rate_hz']:g} Hz; "
-            f"{s['duration_s']:.1f} s in {s['segments']} segment(s); ground time from: "
-            f"{s.get('in_air') or 'not looked for'}")
-        for a, b, why in s["cuts"]:
-            a = "start" if a is None else f"{a:.2f} s"
-            b = "end" if b is None else f"{b:.2f} s"
-            lines.append(f"- cut {a} to {b}: {why}")
-    lines.append(f"- {m['split']}")
-    lines.append(f"- {delay_line(m)}")
+    lines += import_lines(m)
     lines.append("")
     v = {x["name"]: x for x in m["variants"]}
     flight, plain = v["flight"], v["extended plain"]
