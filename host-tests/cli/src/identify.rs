@@ -364,7 +364,6 @@ fn read_all(
     Ok(imported)
 }
 
-/// The same file given twice (by path or by content).
 /// The controls' delay ([`experiments::select_delay`]): `--control-delay`'s, or chosen on the
 /// training data when every log is an autopilot's (a CSV's sticks act at their time stamps,
 /// as the simulators' do); applied to the training and the verification data, and said in a
@@ -431,6 +430,7 @@ fn control_delay(
     Ok(chosen)
 }
 
+/// The same file given twice (by path or by content).
 fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) if x == y => return true,

@@ -24,7 +24,9 @@ use rotorid_sim::plant::SensorSample;
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::gyro_noise_of;
-use super::selection::{block_length, score, split, window_samples, Split, TermMask, FOLDS};
+use super::selection::{
+    block_length, geometric_mean, score, split, window_samples, Split, TermMask, FOLDS,
+};
 
 /// Longest delay tried (s): a slow helicopter servo and the rotor's flapping lag together; a
 /// multicopter's motors are well within it.
@@ -93,31 +95,33 @@ pub fn select_delay(
     let Some(block) = block_length(samples, rate_hz, window) else {
         return Ok(None);
     };
-    let hover = |logs: &[Vec<SensorSample>]| -> Vec<Vec<HoverSample<f32>>> {
-        logs.iter()
-            .map(|log| rotorid_sim::flights::to_hover_samples(log))
-            .collect()
-    };
-    // The gyro noise of the rates, which no delay changes.
-    let gyro_noise = gyro_noise_of(&hover(training));
     let candidates = candidates(rate_hz);
     let longest = candidates.iter().copied().max().unwrap_or(0);
+    // Every candidate on the same samples: those after the longest delay.
+    let shifted = |steps: usize| -> Vec<Vec<HoverSample<f32>>> {
+        training
+            .iter()
+            .map(|log| {
+                let log = delayed(log, steps);
+                rotorid_sim::flights::to_hover_samples(
+                    log.get(longest - steps..).unwrap_or_default(),
+                )
+            })
+            .collect()
+    };
+    // The gyro noise of the rates (over all the training data), which no delay changes.
+    let all: Vec<Vec<HoverSample<f32>>> = training
+        .iter()
+        .map(|log| rotorid_sim::flights::to_hover_samples(log))
+        .collect();
+    let gyro_noise = gyro_noise_of(&all);
     let mut best: Option<(f64, (usize, f64))> = None;
     let mut scores = Vec::new();
     for steps in candidates {
-        // Every candidate on the same samples: those after the longest delay.
-        let shifted: Vec<Vec<SensorSample>> = training
-            .iter()
-            .map(|log| {
-                let mut log = delayed(log, steps);
-                log.drain(..(longest - steps).min(log.len()));
-                log
-            })
-            .collect();
-        let shifted = hover(&shifted);
-        let folds: Vec<Split> = (0..FOLDS).map(|f| split(&shifted, block, f)).collect();
+        let data = shifted(steps);
+        let folds: Vec<Split> = (0..FOLDS).map(|f| split(&data, block, f)).collect();
         let s = score(TermMask::default(), &folds, period_us, window, gyro_noise)?;
-        let mean = geometric_mean(&s.ratios);
+        let mean = Some(geometric_mean(&s.ratios, &[0, 1, 2, 3, 4, 5])).filter(|m| m.is_finite());
         let delay_s = steps as f64 / rate_hz;
         scores.push(DelayScore {
             delay_s,
@@ -130,13 +134,6 @@ pub fn select_delay(
         }
     }
     Ok(best.map(|(delay_s, _)| DelaySelection { delay_s, scores }))
-}
-
-/// Geometric mean of the ratios (`None` if one is not finite).
-fn geometric_mean(ratios: &[f64; 6]) -> Option<f64> {
-    let log_sum: f64 = ratios.iter().map(|r| r.max(1e-12).ln()).sum();
-    let mean = (log_sum / 6.0).exp();
-    mean.is_finite().then_some(mean)
 }
 
 #[cfg(test)]

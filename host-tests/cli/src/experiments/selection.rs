@@ -288,7 +288,11 @@ impl Score {
 
 /// Geometric mean of `ratios` over model `m`'s axes (non-finite: infinitely bad).
 fn model_score(ratios: &[f64; 6], m: usize) -> f64 {
-    let axes = AXES[m];
+    geometric_mean(ratios, AXES[m])
+}
+
+/// Geometric mean of `ratios` over `axes` (a NaN or a non-finite mean: infinitely bad).
+pub(super) fn geometric_mean(ratios: &[f64; 6], axes: &[usize]) -> f64 {
     let log_sum: f64 = axes
         .iter()
         .map(|&i| match ratios[i] {
