@@ -3,6 +3,7 @@
 # docs/fuzzing.md with the executions, coverage and crashes of each target.
 #
 # Usage: scripts/fuzz.sh [SECONDS] [--no-report]
+#        scripts/fuzz.sh --build-only   (only the targets' build: CI begins it early, niced)
 #   SECONDS       fuzzing time per target (default 60), from a random seed;
 #   FUZZ_RUNS=N   instead: exactly N executions per target from seed 1 (reproducible; CI runs
 #                 20 000, the full campaign 10 000 000: FUZZ_RUNS=10000000 scripts/fuzz.sh);
@@ -13,6 +14,8 @@
 # into a regression test before fixing it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+build_only=0
+[ "${1:-}" = "--build-only" ] && build_only=1
 seconds="${1:-60}"
 report=1
 [ "${2:-}" = "--no-report" ] && report=0
@@ -46,6 +49,7 @@ cd host-tests/fuzz
 cargo +nightly fuzz build $(flags ulog_log) >/dev/null
 # shellcheck disable=SC2046
 cargo +nightly fuzz build $(flags c_interface) c_interface >/dev/null
+[ "$build_only" = 1 ] && exit 0
 status=0
 # FUZZ_JOBS=N (with FUZZ_RUNS): N processes side by side on the same corpus, seeds 1…N, each
 # FUZZ_RUNS/N executions; the row sums their executions and takes their best coverage.

@@ -9,18 +9,29 @@ part() { echo "-- $1 (at $((SECONDS / 60)) min $((SECONDS % 60)) s)"; }
 # on): its golden test proves the bits do not depend on the feature.
 part core
 cargo test -p rotorid
+# The same golden bits in debug with `std` on (the host build's feature set), so that debug and
+# release, with and without `std`, all reproduce the one committed set.
+cargo test -p rotorid --features std --test golden
 # Everything, optimised.
 part "workspace, release"
 cargo test --workspace --release
 # The CLI binary that build made, for the Python tests to compare with (building it again
 # with `-p rotorid-cli` would unify features differently and rebuild 15 crates).
 export ROTORID_BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
-# In debug, what can depend on the build profile: the bits (the golden files, the agreement
-# with the reference) and the overflow checks (every crate's unit tests, the properties). The
-# end-to-end runs (QEMU, the CLI's flights, the soak) compute with the same core and run once,
-# optimised: in debug they took 13 of the suite's 15 minutes (docs/workspace.md).
-part "workspace, debug"
-cargo test --workspace --lib --bins --test golden --test properties --test reference_agreement
+# No second, unoptimised pass of the workspace: the release profile keeps integer overflow
+# checks on (Cargo.toml), so the pass above checks every crate's arithmetic as debug would, and
+# the core's bits are checked unoptimised above (the golden files, with and without `std`).
+# TEST_LONG_ONBOARD=1 (CI): also the long onboard run (full flights under QEMU, bit for bit:
+# one core for about two minutes), begun now beside the C and Python parts, whose builds and
+# tests leave a core idle for part of the time.
+long_pid=
+if [ "${TEST_LONG_ONBOARD:-0}" = 1 ]; then
+  part "long onboard run, begun beside the rest"
+  long_log=$(mktemp)
+  ROTORID_LONG=1 cargo test --workspace --release --test firmware_ident full_flights \
+    >"$long_log" 2>&1 &
+  long_pid=$!
+fi
 # The C interface (its own workspace: a static library aborts on panic): the header is up to
 # date, and a C program on the host and a C firmware under QEMU match rotorid bit for bit.
 part "C interface"
@@ -29,4 +40,9 @@ cargo test --manifest-path core/ffi/Cargo.toml
 # bytes to the CLI and the C interface, bad input, a Dask fleet, the example notebook).
 part Python
 bash scripts/python.sh
+if [ -n "$long_pid" ]; then
+  part "long onboard run: its result"
+  wait "$long_pid" || { cat "$long_log"; exit 1; }
+  cat "$long_log"
+fi
 part done
