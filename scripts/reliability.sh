@@ -8,7 +8,7 @@ export CARGO_TERM_COLOR=never
 start=$(date +%s)
 link=$(ROTORID_LINK_FRAMES="$frames" cargo test --release -p host-tests --test link_at_scale \
   -- --nocapture 2>&1 | grep -E "frames,|test result")
-px4=$(cargo test --release -p rotorid --test px4_arx_rls -- --nocapture --test-threads=1 2>&1 \
+px4=$(cargo test --release -p rotorid --test integration px4_arx_rls:: -- --nocapture --test-threads=1 2>&1 \
   | grep -E "rotorid \[|test result")
 (cd firmware-example && cargo build -q --release)
 panics=$(python3 scripts/no_panic.py firmware-example/target/thumbv7em-none-eabihf/release/firmware-example --strict)
@@ -35,7 +35,7 @@ ${link}
 
 ## A peer's own tests: PX4's ARX RLS
 
-\`cargo test --release -p rotorid --test px4_arx_rls -- --nocapture\`
+\`cargo test --release -p rotorid --test integration px4_arx_rls:: -- --nocapture\`
 
 PX4's \`ArxRls\` and \`SystemIdentification\` tests (PX4-Autopilot
 \`src/lib/system_identification\`, BSD-3-Clause) rebuilt on rotorid's generic \`Rls\`: the same

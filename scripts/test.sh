@@ -11,7 +11,7 @@ part core
 cargo test -p rotorid
 # The same golden bits in debug with `std` on (the host build's feature set), so that debug and
 # release, with and without `std`, all reproduce the one committed set.
-cargo test -p rotorid --features std --test golden
+cargo test -p rotorid --features std --test integration golden::
 # Everything, optimised.
 part "workspace, release"
 cargo test --workspace --release

@@ -3,9 +3,7 @@
 //! input refused with the identifier left bit for bit as it was.
 // Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
-#[allow(dead_code)]
-#[path = "support/golden.rs"]
-mod golden;
+use crate::support::golden;
 
 use rotorid::hover::{
     flight_sets, Attitude, AttitudeInput, BodyFrame, HoverSample, Quaternion, RotationMatrix,

@@ -2,8 +2,7 @@
 //! ([`HoverIdentifier::compensate`](rotorid::HoverIdentifier::compensate)).
 // Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
-#[path = "support/flight_log.rs"]
-mod flight_log;
+use crate::support::flight_log;
 
 use flight_log::flight_log;
 use rotorid::hover::{flight_sets, HoverSample, RateNoise};

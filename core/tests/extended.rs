@@ -1,9 +1,7 @@
 //! The extended structures, regressor scaling and the convergence indicator.
 // Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
-#[path = "support/golden.rs"]
-#[allow(dead_code)]
-mod golden;
+use crate::support::golden;
 
 use rotorid::convergence::ConvergenceMonitor;
 use rotorid::hover::{HoverSample, RegressorScaling, StateModel};

@@ -1,8 +1,6 @@
 //! The core without its `std` feature reproduces the same golden bits as the host build
 //! (`cargo test -p rotorid` builds the core alone, without `std`).
-#[path = "support/golden.rs"]
-#[allow(dead_code)]
-mod golden;
+use crate::support::golden;
 
 #[test]
 fn golden_bits_are_reproduced_without_std() {
