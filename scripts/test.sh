@@ -21,17 +21,6 @@ export ROTORID_BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 # No second, unoptimised pass of the workspace: the release profile keeps integer overflow
 # checks on (Cargo.toml), so the pass above checks every crate's arithmetic as debug would, and
 # the core's bits are checked unoptimised above (the golden files, with and without `std`).
-# TEST_LONG_ONBOARD=1 (CI): also the long onboard run (full flights under QEMU, bit for bit:
-# one core for about two minutes), begun now beside the C and Python parts, whose builds and
-# tests leave a core idle for part of the time.
-long_pid=
-if [ "${TEST_LONG_ONBOARD:-0}" = 1 ]; then
-  part "long onboard run, begun beside the rest"
-  long_log=$(mktemp)
-  ROTORID_LONG=1 cargo test --workspace --release --test firmware_ident full_flights \
-    >"$long_log" 2>&1 &
-  long_pid=$!
-fi
 # The C interface (its own workspace: a static library aborts on panic): the header is up to
 # date, and a C program on the host and a C firmware under QEMU match rotorid bit for bit.
 part "C interface"
@@ -40,9 +29,4 @@ cargo test --manifest-path core/ffi/Cargo.toml
 # bytes to the CLI and the C interface, bad input, a Dask fleet, the example notebook).
 part Python
 bash scripts/python.sh
-if [ -n "$long_pid" ]; then
-  part "long onboard run: its result"
-  wait "$long_pid" || { cat "$long_log"; exit 1; }
-  cat "$long_log"
-fi
 part done

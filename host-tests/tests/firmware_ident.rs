@@ -1,7 +1,8 @@
 //! Onboard identification in QEMU, checked bit for bit against the host build.
 //!
 //! Needs `qemu-system-arm` and the `thumbv7em-none-eabihf` target (`scripts/setup.sh`).
-//! `ROTORID_LONG=1` adds the full identification + verification flights (CI).
+//! `ROTORID_LONG=1` adds the full identification + verification flights
+//! (`scripts/onboard-flights.sh`).
 //!
 //! (Over 700 lines: every test drives the same QEMU firmware through the same link driver; a
 //! test file is a binary, and the firmware is built once per binary.)
@@ -351,8 +352,9 @@ fn warm_start_sweep_memory() {
     let _ = (MsgType::Memory, OnboardError::Protocol(String::new()));
 }
 
-/// CI only (`ROTORID_LONG=1`): the full identification flight (learning) and a 120 s
-/// verification flight (frozen θ), bit for bit, then parameters and exported state.
+/// `scripts/onboard-flights.sh` only (`ROTORID_LONG=1`; docs/onboard-flights.md): the full
+/// identification flight (learning) and a 120 s verification flight (frozen θ), bit for bit,
+/// then parameters and exported state.
 #[test]
 fn full_flights_bit_for_bit_when_long() {
     if std::env::var_os("ROTORID_LONG").is_none() {
