@@ -3,6 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target_dir="${CARGO_TARGET_DIR:-target}"
-cargo bench -p host-tests --bench rls -- --noplot
+cargo bench -p rotorid-bench --bench rls -- --noplot
 mkdir -p docs
 cargo run -q --release -p host-tests --bin bench_report -- "$target_dir/criterion" docs/benchmarks.md

@@ -12,7 +12,7 @@ start=$(date +%s)
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 # `--workspace`: the features the tests are built with (`-p host-tests` alone would rebuild).
-if ! ROTORID_LONG=1 cargo test --workspace --release --test firmware_ident full_flights \
+if ! ROTORID_LONG=1 cargo test --workspace --release --test integration firmware_ident::full_flights \
   -- --nocapture >"$log" 2>&1; then
   cat "$log" >&2
   exit 1
@@ -26,7 +26,7 @@ The paper's full identification flight (seed 1: the Table 2 sweeps, learning) an
 verification flight (seed 2, θ frozen) streamed through the firmware example under QEMU
 (\`mps2-an386\`, Cortex-M4F) over its serial link; every estimate, then the parameters and the
 exported state, equal bit for bit to the host build's
-(\`ROTORID_LONG=1 cargo test --workspace --release --test firmware_ident full_flights\`).
+(\`ROTORID_LONG=1 cargo test --workspace --release --test integration firmware_ident::full_flights\`).
 CI runs the same comparison on shorter flights (64 s of simulated flight learnt, then predicted
 with θ frozen; pieces of the envelope flight for the flight pair: the other tests of
 \`host-tests/tests/firmware_ident.rs\`), not this run, which holds one core for about two minutes.

@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 frames="${1:-1000000}"
 export CARGO_TERM_COLOR=never
 start=$(date +%s)
-link=$(ROTORID_LINK_FRAMES="$frames" cargo test --release -p host-tests --test link_at_scale \
+link=$(ROTORID_LINK_FRAMES="$frames" cargo test --release -p host-tests --test integration link_at_scale:: \
   -- --nocapture 2>&1 | grep -E "frames,|test result")
 px4=$(cargo test --release -p rotorid --test integration px4_arx_rls:: -- --nocapture --test-threads=1 2>&1 \
   | grep -E "rotorid \[|test result")
@@ -21,7 +21,7 @@ its default 100 000 frames (20 000 in debug), not the $frames here.
 
 ## The link at scale
 
-\`ROTORID_LINK_FRAMES=$frames cargo test --release -p host-tests --test link_at_scale -- --nocapture\`
+\`ROTORID_LINK_FRAMES=$frames cargo test --release -p host-tests --test integration link_at_scale:: -- --nocapture\`
 
 Random valid frames (random type, 0–240 random payload bytes) through a channel with a bit
 error rate of 1e-3, 1 % of frames cut short and bursts of random bytes after 0.5 % of them;

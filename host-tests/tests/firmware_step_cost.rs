@@ -4,9 +4,7 @@
 //! firmware's `step-cost` binary prints a hash of all its predictions per identifier, and the
 //! very same module (`firmware-example/src/step_cost.rs`) runs here.
 
-#[allow(dead_code)]
-#[path = "../../firmware-example/src/step_cost.rs"]
-mod step_cost;
+use crate::step_cost;
 
 use std::collections::BTreeMap;
 use std::process::Command;

@@ -3,7 +3,7 @@
 //! is counted, and the receiver resynchronises at the next intact frame.
 //!
 //! CI runs 100 000 frames in release builds (20 000 in debug builds); the full campaign (1 000 000 and more) is
-//! `ROTORID_LINK_FRAMES=1000000 cargo test --release -p host-tests --test link_at_scale -- --nocapture`.
+//! `ROTORID_LINK_FRAMES=1000000 cargo test --release -p host-tests --test integration link_at_scale:: -- --nocapture`.
 
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

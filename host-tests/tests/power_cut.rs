@@ -14,9 +14,7 @@
 //! run; `scripts/power-cut.sh` runs 1 000 trials and writes `docs/power-cut.md` from the
 //! summary line this test prints. Needs `qemu-system-arm` (`scripts/setup.sh`).
 
-#[allow(dead_code)]
-#[path = "../../firmware-example/src/step_cost.rs"]
-mod step_cost;
+use crate::step_cost;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

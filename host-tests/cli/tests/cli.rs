@@ -4,7 +4,7 @@
 //! `robustness-report` are tested with `rotorid-lab` (host-tests/lab/tests/reports.rs).
 //!
 //! (Over 700 lines: every test here drives the `rotorid` binary through the same flights and
-//! temp-dir helpers; a test file is a binary, and splitting it would link the tool's tests twice.)
+//! temp-dir helpers, which a split would have to share.)
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

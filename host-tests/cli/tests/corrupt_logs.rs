@@ -545,7 +545,7 @@ fn in_air_comes_from_the_autopilots_own_state() {
 
 /// Writes the fuzz targets' seed corpora (`host-tests/fuzz/corpus/{ulog_log,dataflash_log}/`,
 /// each file under 20 KB): generated logs, the real fixtures cut small, and the edge cases
-/// above. Run: `cargo test -p rotorid-cli --test corrupt_logs -- --ignored write_fuzz_seeds`.
+/// above. Run: `cargo test -p rotorid-cli --test integration -- --ignored corrupt_logs::write_fuzz_seeds`.
 #[test]
 #[ignore = "writes the fuzz seed corpora"]
 fn write_fuzz_seeds() {

@@ -3,7 +3,7 @@
 //! Monte Carlo), the signs physics dictates on the X-Cell simulator, and inputs that cannot be
 //! fitted (a stick that never moves, no samples, a NaN sample) giving reasons, not panics.
 //!
-//! `cargo test -p rotorid-cli --release --test derivatives -- --nocapture` prints the Monte
+//! `cargo test -p rotorid-cli --release --test integration derivatives:: -- --nocapture` prints the Monte
 //! Carlo table and the run time of `derivatives()` on a 300 s 50 Hz flight.
 //!
 //! (Over 700 lines: the synthetic systems, the simulator's flights and the refusals share one

@@ -75,7 +75,7 @@
 //! For the same reason the quasi-steady rate derivatives of a helicopter depend on the input's
 //! frequency content (on the X-Cell the roll time constant comes out 0.05 s from the
 //! identification sweeps and 0.12 s from the verification multisteps; `cargo test -p
-//! rotorid-cli --release --test derivatives xcell -- --nocapture` prints both): they describe
+//! rotorid-cli --release --test integration derivatives::xcell -- --nocapture` prints both): they describe
 //! the log's flight, not the rotor. Heave and yaw do not go through the flapping: there the
 //! noise-free estimates agree with the simulator's own linearisation within 1 %.
 //!
