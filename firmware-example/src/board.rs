@@ -50,6 +50,12 @@ const STATE_TX_OVERRUN: u32 = 1 << 2;
 const STATE_RX_OVERRUN: u32 = 1 << 3;
 const CTRL_TX_EN: u32 = 1 << 0;
 const CTRL_RX_EN: u32 = 1 << 1;
+const CTRL_RX_INT_EN: u32 = 1 << 3;
+const INT_RX: u32 = 1 << 1;
+/// Status checks a read makes before it sleeps until a byte arrives ([`CmsdkUart::read`]):
+/// about 40 000 instructions, tens of microseconds of QEMU, longer than the gap between two
+/// bytes of a frame and far shorter than the host's work between two frames.
+const RX_SPINS: u32 = 4000;
 
 /// Errors of [`CmsdkUart`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]
@@ -77,21 +83,33 @@ impl embedded_io::Error for UartError {
     }
 }
 
-/// Polled driver for the ARM CMSDK APB UART (1-byte TX and RX holding registers).
+/// Polled driver for the ARM CMSDK APB UART (1-byte TX and RX holding registers). A read
+/// with nothing to read sleeps until a byte arrives (see [`CmsdkUart::wait_for_rx`]).
 pub struct CmsdkUart {
     base: usize,
+    /// The receive interrupt's bit in the NVIC's first enable/pending registers, for the
+    /// UARTs 0–2 of `mps2-an386` (interrupts 0, 2, 4); `None` elsewhere (reads then spin).
+    rx_irq_bit: Option<u32>,
 }
 
 impl CmsdkUart {
-    /// Enables TX and RX at `baud` with interrupts off.
+    /// Enables TX and RX at `baud`, and the receive interrupt's line, which only wakes the
+    /// core from a sleep (the NVIC takes no interrupt of the UART).
     ///
     /// # Safety
-    /// `base` must be the address of a CMSDK APB UART that nothing else uses.
+    /// `base` must be the address of a CMSDK APB UART that nothing else uses, and nothing
+    /// else may use its receive interrupt.
     pub unsafe fn new(base: usize, core_hz: u32, baud: u32) -> Self {
-        let uart = Self { base };
+        let rx_irq_bit = match base {
+            0x4000_4000 => Some(1 << 0),
+            0x4000_5000 => Some(1 << 2),
+            0x4000_6000 => Some(1 << 4),
+            _ => None,
+        };
+        let uart = Self { base, rx_irq_bit };
         // The divider must be >= 16 on real hardware.
         uart.write_reg(BAUDDIV, (core_hz / baud.max(1)).max(16));
-        uart.write_reg(CTRL, CTRL_TX_EN | CTRL_RX_EN);
+        uart.write_reg(CTRL, CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INT_EN);
         // Clear stale overrun flags and interrupt status (write-one-to-clear).
         uart.write_reg(STATE, STATE_TX_OVERRUN | STATE_RX_OVERRUN);
         uart.write_reg(INTSTATUS, 0xF);
@@ -120,6 +138,37 @@ impl CmsdkUart {
     fn rx_full(&self) -> bool {
         self.read_reg(STATE) & STATE_RX_FULL != 0
     }
+
+    /// Sleeps (`wfi`) until the receive interrupt is pending, or returns at once if a byte is
+    /// already there. The interrupt is enabled in the NVIC only while interrupts are masked
+    /// (PRIMASK), so it wakes the core without being taken, and it is disabled and cleared
+    /// again before they are unmasked. A byte arriving between the check and the `wfi` leaves
+    /// the interrupt pending, and the `wfi` returns at once: no wake-up is lost. Why: a
+    /// firmware spinning on the status register keeps QEMU, and a host core, busy whenever it
+    /// waits for the host; asleep, QEMU idles (the test suite's QEMU processes used 63 of its
+    /// 83 CPU-seconds spinning). SysTick still wakes the core to count its wraps.
+    fn wait_for_rx(&self) {
+        let Some(bit) = self.rx_irq_bit else { return };
+        let nvic = cortex_m::peripheral::NVIC::PTR;
+        cortex_m::interrupt::free(|_| {
+            // SAFETY: the NVIC's registers (a fixed address on every Cortex-M); `new`'s
+            // contract gives this UART's interrupt to this driver alone.
+            unsafe {
+                self.write_reg(INTSTATUS, INT_RX);
+                (*nvic).icpr[0].write(bit);
+                (*nvic).iser[0].write(bit);
+            }
+            if !self.rx_full() {
+                cortex_m::asm::wfi();
+            }
+            // SAFETY: as above.
+            unsafe {
+                (*nvic).icer[0].write(bit);
+                self.write_reg(INTSTATUS, INT_RX);
+                (*nvic).icpr[0].write(bit);
+            }
+        });
+    }
 }
 
 impl embedded_io::ErrorType for CmsdkUart {
@@ -132,8 +181,16 @@ impl embedded_io::Read for CmsdkUart {
         if buf.is_empty() {
             return Ok(0);
         }
+        // Spins a little first: within a frame the next byte follows at once, and a sleep per
+        // byte would pay a wake-up per byte (QEMU hands the UART one byte at a time).
+        let mut spins = 0;
         while !self.rx_full() {
             self.check_overrun()?;
+            if spins < RX_SPINS {
+                spins += 1;
+            } else {
+                self.wait_for_rx();
+            }
         }
         let mut n = 0;
         for slot in buf.iter_mut() {
