@@ -84,7 +84,8 @@ impl embedded_io::Error for UartError {
 }
 
 /// Polled driver for the ARM CMSDK APB UART (1-byte TX and RX holding registers). A read
-/// with nothing to read sleeps until a byte arrives (see [`CmsdkUart::wait_for_rx`]).
+/// with nothing to read checks the status [`RX_SPINS`] times, then sleeps until a byte
+/// arrives (see [`CmsdkUart::wait_for_rx`]).
 pub struct CmsdkUart {
     base: usize,
     /// The receive interrupt's bit in the NVIC's first enable/pending registers, for the
