@@ -88,8 +88,8 @@ impl embedded_io::Error for UartError {
 /// arrives (see [`CmsdkUart::wait_for_rx`]).
 pub struct CmsdkUart {
     base: usize,
-    /// The receive interrupt's bit in the NVIC's first enable/pending registers, for the
-    /// UARTs 0–2 of `mps2-an386` (interrupts 0, 2, 4); `None` elsewhere (reads then spin).
+    /// The receive interrupt's bit in the NVIC's first enable/pending registers, for UART0
+    /// and UART1 of `mps2-an386` (interrupts 0 and 2); `None` elsewhere (reads then spin).
     rx_irq_bit: Option<u32>,
 }
 
@@ -102,9 +102,8 @@ impl CmsdkUart {
     /// else may use its receive interrupt.
     pub unsafe fn new(base: usize, core_hz: u32, baud: u32) -> Self {
         let rx_irq_bit = match base {
-            0x4000_4000 => Some(1 << 0),
-            0x4000_5000 => Some(1 << 2),
-            0x4000_6000 => Some(1 << 4),
+            UART0_BASE => Some(1 << 0),
+            UART1_BASE => Some(1 << 2),
             _ => None,
         };
         let uart = Self { base, rx_irq_bit };
@@ -146,8 +145,8 @@ impl CmsdkUart {
     /// again before they are unmasked. A byte arriving between the check and the `wfi` leaves
     /// the interrupt pending, and the `wfi` returns at once: no wake-up is lost. Why: a
     /// firmware spinning on the status register keeps QEMU, and a host core, busy whenever it
-    /// waits for the host; asleep, QEMU idles (the test suite's QEMU processes used 63 of its
-    /// 83 CPU-seconds spinning). SysTick still wakes the core to count its wraps.
+    /// waits for the host; asleep, QEMU idles (docs/workspace.md has the suite's QEMU CPU time
+    /// before and after, `scripts/cpu_use.py`). SysTick still wakes the core to count its wraps.
     fn wait_for_rx(&self) {
         let Some(bit) = self.rx_irq_bit else { return };
         let nvic = cortex_m::peripheral::NVIC::PTR;
