@@ -473,6 +473,7 @@ fn put_premise(premise: Premise, sets: &[PremiseSets<f32>], w: &mut impl WordSin
         Premise::Velocity => 0,
         Premise::Rates => 1,
         Premise::HeadingVelocity => 2,
+        Premise::HorizontalSpeed => 3,
     };
     w.put_word(code.to_le_bytes());
     w.put_word((sets.len() as u32).to_le_bytes());

@@ -253,14 +253,41 @@ fn bits(s: &HoverState<f32>) -> [u32; 6] {
 
 #[test]
 fn kept_strengths_give_the_bits_of_a_recomputation() {
-    // All four models on the forward speed: the rate models take the velocity model's ξ.
+    // The rate models on the forward speed, the velocity model on the horizontal speed: the
+    // yaw and roll models take the pitch model's ξ.
     matches_models_learning_afresh(flight());
 }
 
 #[test]
+fn rate_models_take_the_velocity_models_strengths_where_it_is_scheduled_as_they_are() {
+    // A translational model on the forward speed with the rates' sets: the three rate models
+    // take its ξ.
+    let flight = flight();
+    let config = HoverConfig::default();
+    let rules = RuleBase::new([flight_sets(), PremiseSets::new(), PremiseSets::new()]).unwrap();
+    let velocity = LocalVelocityModel::<f32, 3, 8, 36>::with_scaling(
+        rules,
+        VelocityStructure::Flight,
+        Premise::HeadingVelocity,
+        config.rls,
+        VelocityStructure::Flight.helicopter_scaling(),
+    )
+    .unwrap();
+    let id = HoverIdentifier::new(
+        velocity,
+        flight.pitch_model().clone(),
+        flight.yaw_model().clone(),
+        flight.roll_model().clone(),
+        config,
+    )
+    .unwrap();
+    matches_models_learning_afresh(id);
+}
+
+#[test]
 fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
-    // The yaw model on forward and side speed (9 rules) cannot take the velocity model's ξ
-    // and computes its own; the roll model after it still takes them.
+    // The yaw model on forward and side speed (9 rules) cannot take the pitch model's ξ and
+    // computes its own; the roll model after it still takes them.
     let flight = flight();
     let config = HoverConfig::default();
     let side = rotorid::hover::table3::three_sets((-5.0, 2.5), (0.0, 2.5), (5.0, 2.5));
@@ -278,8 +305,8 @@ fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
 
 #[test]
 fn a_model_replaced_through_its_mut_access_is_not_given_the_old_sets_strengths() {
-    // The identifier finds once which models share the velocity model's sets; a yaw model
-    // with other sets put in its place must compute its own again.
+    // The identifier finds once which models share the velocity or the pitch model's sets; a
+    // yaw model with other sets put in its place must compute its own again.
     let mut id = flight();
     for k in 0..5 {
         id.step(&sample(k)).unwrap();

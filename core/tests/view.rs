@@ -147,8 +147,8 @@ fn models_report_their_premise_and_sets() {
     let sets = flight_sets::<f32>();
     let id = FlightIdentifier::<f32>::flight(HoverConfig::default(), sets.clone()).unwrap();
     let (premise, variables) = id.velocity_model().premise_sets();
-    assert_eq!(premise, Premise::HeadingVelocity);
-    assert_eq!(variables[0], sets, "forward speed");
+    assert_eq!(premise, Premise::HorizontalSpeed);
+    assert_eq!(variables[0], sets, "horizontal speed");
     assert!(variables[1].is_empty() && variables[2].is_empty());
     let (premise, variables) = id.roll_model().premise_sets();
     assert_eq!((premise, &variables[0]), (Premise::HeadingVelocity, &sets));

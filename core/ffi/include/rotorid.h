@@ -298,8 +298,9 @@
 #define ROTORID_LAYOUT_VERSION 2
 
 /**
- * The flight default: three forward-speed rules per model, local learning, the extended
- * flight structures (`rotorid::FlightIdentifier`).
+ * The flight default: three speed rules per model (the rates on the forward speed, the
+ * translational model on the horizontal speed), local learning, the extended flight
+ * structures (`rotorid::FlightIdentifier`).
  */
 #define ROTORID_KIND_FLIGHT 1
 
@@ -683,8 +684,10 @@ typedef struct {
 } rotorid_ned_frd_sample_t;
 
 /**
- * The forward-speed premise sets of `ROTORID_KIND_FLIGHT` (m/s, heading frame): a left
- * shoulder, a Gaussian and a right shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
+ * The speed premise sets of `ROTORID_KIND_FLIGHT` (m/s): the rate models' on the forward
+ * speed (heading frame), the translational model's on the horizontal speed in any direction
+ * (`rotorid::hover::Premise::HorizontalSpeed`). A left shoulder, a Gaussian and a right
+ * shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
  * shoulder's centre. Defaults (`rotorid_flight_sets_default`):
  * centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
  * (`rotorid::premise::quantile_sets`).
@@ -970,7 +973,7 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  * Required: `storage` (at least `rotorid_storage_size(kind)` bytes, given in `storage_size`,
  * aligned to `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives;
  * calling an init again on it starts afresh), `handle`. Optional (NULL allowed): `config`
- * (NULL: `rotorid_config_default`), `sets` (the forward-speed sets of `ROTORID_KIND_FLIGHT`;
+ * (NULL: `rotorid_config_default`), `sets` (the speed sets of `ROTORID_KIND_FLIGHT`;
  * NULL: the defaults; must be NULL for every other kind), `error` (NULL: no detail).
  *
  * Codes: OK; NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT; CONFIG_ALGORITHM,
@@ -1554,7 +1557,7 @@ int32_t rotorid_config_default(rotorid_config_t *out);
 int32_t rotorid_config_paper(rotorid_config_t *out);
 
 /**
- * The default forward-speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
+ * The default speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
  *
  * # Safety
  * `out` is NULL or points to a writable `rotorid_flight_sets_t`.

@@ -231,7 +231,7 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
 /// Required: `storage` (at least `rotorid_storage_size(kind)` bytes, given in `storage_size`,
 /// aligned to `ROTORID_STORAGE_ALIGN`, used for nothing else while the identifier lives;
 /// calling an init again on it starts afresh), `handle`. Optional (NULL allowed): `config`
-/// (NULL: `rotorid_config_default`), `sets` (the forward-speed sets of `ROTORID_KIND_FLIGHT`;
+/// (NULL: `rotorid_config_default`), `sets` (the speed sets of `ROTORID_KIND_FLIGHT`;
 /// NULL: the defaults; must be NULL for every other kind), `error` (NULL: no detail).
 ///
 /// Codes: OK; NULL, MISALIGNED, STORAGE_SIZE, KIND, ARGUMENT; CONFIG_ALGORITHM,

@@ -14,8 +14,9 @@ use rotorid::snapshot::{Snapshot, SnapshotState};
 
 use crate::types::*;
 
-/// The flight default: three forward-speed rules per model, local learning, the extended
-/// flight structures (`rotorid::FlightIdentifier`).
+/// The flight default: three speed rules per model (the rates on the forward speed, the
+/// translational model on the horizontal speed), local learning, the extended flight
+/// structures (`rotorid::FlightIdentifier`).
 pub const ROTORID_KIND_FLIGHT: u32 = 1;
 /// The flight structures with one rule (`rotorid::FlightPlainIdentifier`).
 pub const ROTORID_KIND_FLIGHT_PLAIN: u32 = 2;

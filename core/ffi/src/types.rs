@@ -226,8 +226,10 @@ impl TryFrom<&rotorid_config_t> for HoverConfig<f32> {
     }
 }
 
-/// The forward-speed premise sets of `ROTORID_KIND_FLIGHT` (m/s, heading frame): a left
-/// shoulder, a Gaussian and a right shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
+/// The speed premise sets of `ROTORID_KIND_FLIGHT` (m/s): the rate models' on the forward
+/// speed (heading frame), the translational model's on the horizontal speed in any direction
+/// (`rotorid::hover::Premise::HorizontalSpeed`). A left shoulder, a Gaussian and a right
+/// shoulder, `μ = exp(−(u − c)² / (2σ²))` beyond each
 /// shoulder's centre. Defaults (`rotorid_flight_sets_default`):
 /// centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
 /// (`rotorid::premise::quantile_sets`).
@@ -272,7 +274,7 @@ pub unsafe extern "C" fn rotorid_config_paper(out: *mut rotorid_config_t) -> i32
     }
 }
 
-/// The default forward-speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
+/// The default speed sets of `ROTORID_KIND_FLIGHT` (`rotorid::hover::flight_sets`).
 ///
 /// # Safety
 /// `out` is NULL or points to a writable `rotorid_flight_sets_t`.

@@ -210,7 +210,10 @@ pub(super) struct Settings {
 }
 
 /// Which rate models are scheduled on the velocity model's premise with its sets, and so take
-/// its firing strengths ([`SharedStrengths`]) without comparing the sets at every sample.
+/// its firing strengths ([`SharedStrengths`]) without comparing the sets at every sample; and
+/// which of the yaw and roll models, not sharing the velocity model's, take the pitch model's
+/// (the flight identifier's rates are scheduled on the forward speed, its translational model
+/// on the horizontal speed).
 /// Found at the first prediction, and again after a model was handed out mutably (which could
 /// replace it). One byte in [`Settings`]'s padding.
 ///
@@ -228,10 +231,13 @@ impl Sharing {
         rates: [(Premise, &[PremiseSets<T>]); 3],
     ) -> Self {
         let (premise, sets) = velocity.premise_sets();
+        let (pitch_premise, pitch_sets) = rates[0];
         let mut bits = Self::KNOWN;
         for (i, (p, s)) in rates.into_iter().enumerate() {
             if p == premise && same_sets(s, sets) {
                 bits |= 2 << i;
+            } else if i > 0 && p == pitch_premise && same_sets(s, pitch_sets) {
+                bits |= 16 << i;
             }
         }
         Self(bits)
@@ -244,6 +250,11 @@ impl Sharing {
     /// Whether rate model `i` (0 q̂, 1 r̂, 2 p̂) takes the velocity model's strengths.
     fn takes(self, i: u8) -> bool {
         self.0 & (2 << i) != 0
+    }
+
+    /// Whether rate model `i` (1 r̂, 2 p̂) takes the pitch model's strengths.
+    fn takes_pitch(self, i: u8) -> bool {
+        self.0 & (16 << i) != 0
     }
 }
 
@@ -469,7 +480,8 @@ where
         self.velocity
             .predict_keep(sample, frame, before, None, &mut next)?;
         // The rate models take the velocity model's firing strengths where their premise and
-        // sets are the same (the flight identifier's are): computed once per sample.
+        // sets are the same, and the yaw and roll models the pitch model's where theirs are
+        // (the flight identifier's): each set of strengths computed once per sample.
         if !self.settings.sharing.known() {
             let rates = [
                 self.pitch.premise_sets(),
@@ -486,6 +498,11 @@ where
         let to = |i| shared.as_ref().filter(|_| sharing.takes(i));
         self.pitch
             .predict_keep(sample, frame, before, to(0), &mut next)?;
+        let pitch = self
+            .pitch
+            .kept_strengths()
+            .map(SharedStrengths::with_sets_checked);
+        let to = |i| to(i).or_else(|| pitch.as_ref().filter(|_| sharing.takes_pitch(i)));
         self.yaw
             .predict_keep(sample, frame, before, to(1), &mut next)?;
         self.roll

@@ -74,13 +74,15 @@ pub type ExtendedLocalIdentifier<T> = HoverIdentifier<
     LocalRateModel<T, 9, 5, 15>,
 >;
 
-/// **The identifier to fly**: the extended structure, each model scheduled on the forward
-/// speed (the heading-frame velocity of [`Premise::HeadingVelocity`], sets on its first
-/// component only) with three rules learnt locally. See [`FlightIdentifier::flight`] and
-/// [`flight_sets`].
+/// **The identifier to fly**: the extended structure, each model with three rules learnt
+/// locally, the rates' scheduled on the forward speed (the heading-frame velocity of
+/// [`Premise::HeadingVelocity`]) and the translational model's on the horizontal speed in
+/// any direction ([`Premise::HorizontalSpeed`]), with the same sets on the first premise
+/// variable only. See [`FlightIdentifier::flight`] and [`flight_sets`].
 ///
 /// Why (docs/results.md has the evidence): a helicopter's rate and velocity dynamics change
-/// mainly with airspeed, so that is what the rules are scheduled on; local learning makes
+/// mainly with airspeed, so that is what the rules are scheduled on (the rotor's thrust with
+/// the speed in any direction, the fin's and tail rotor's moments with its direction too); local learning makes
 /// each rule a local linear model that stays sane where it is rarely visited; three rules of
 /// 8 (velocity) and 7 (rates) terms keep the step cheap and the identifier small (f32: under 3 KiB).
 pub type FlightIdentifier<T> = HoverIdentifier<
@@ -101,7 +103,8 @@ pub type FlightPlainIdentifier<T> = HoverIdentifier<
     LocalRateModel<T, 1, 7, 28>,
 >;
 
-/// The default forward-speed sets of [`FlightIdentifier`] (m/s): a left shoulder at hover
+/// The default speed sets of [`FlightIdentifier`] (m/s; the rates' forward speed, the
+/// translational model's horizontal speed): a left shoulder at hover
 /// (c = 0, σ = 2.5; it also takes backward flight), a Gaussian at 5 m/s (σ = 2.5) and a right
 /// shoulder from 10 m/s (σ = 2.5): a miniature helicopter's low-speed envelope in three
 /// regions that overlap at about μ = 0.6. For another aircraft or envelope, place them from a
@@ -149,11 +152,13 @@ impl Design {
         rate: RateStructure::Extended,
         ..Self::PAPER
     };
-    /// The flight structures, every model scheduled on the heading-frame velocity.
+    /// The flight structures: the translational model scheduled on the horizontal speed
+    /// (the rotor's thrust changes with it in any direction), the rates on the heading-frame
+    /// velocity (the fin and the tail rotor see the direction too).
     const FLIGHT: Self = Self {
         velocity: VelocityStructure::Flight,
         rate: RateStructure::Flight,
-        velocity_premise: Premise::HeadingVelocity,
+        velocity_premise: Premise::HorizontalSpeed,
         rate_premise: Premise::HeadingVelocity,
     };
 }
@@ -298,8 +303,9 @@ impl<T: Real> ExtendedLocalIdentifier<T> {
 }
 
 impl<T: Real> FlightIdentifier<T> {
-    /// The flight identifier with the given forward-speed sets (m/s; three sets, e.g. from
-    /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models.
+    /// The flight identifier with the given speed sets (m/s; three sets, e.g. from
+    /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models: on the
+    /// forward speed for the rates, on the horizontal speed for the translational model.
     pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
         let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
         build(config, four(base)?, Design::FLIGHT)

@@ -559,10 +559,14 @@ fn regime_bias(envelope: &Metrics) -> String {
          through it): extended plain has no term for it (see its r column), the flight \
          default's yaw model has `𝕀 |v|` (`RateStructure::Flight`). The last column \
          schedules the flight default's yaw model on side speed too (`flight yaw on side \
-         speed`, 9 rules): what scheduling adds to that term.\n\n",
+         speed`, 9 rules): what scheduling adds to that term. The vertical columns are the \
+         same for the vertical speed (m/s² up): the thrust the model gets wrong. Translational \
+         lift raises the thrust per collective with the speed in any direction; the flight \
+         default's translational model is scheduled on the horizontal speed \
+         (`Premise::HorizontalSpeed`), so its sideways regimes are not learnt as hover.\n\n",
     );
-    s += "| regime | samples | flight: q | flight: r | flight: p | extended plain: q | extended plain: r | extended plain: p | yaw on side speed: r |\n";
-    s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    s += "| regime | samples | flight: q | flight: r | flight: p | flight: vertical | extended plain: q | extended plain: r | extended plain: p | extended plain: vertical | yaw on side speed: r |\n";
+    s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (k, (f, b)) in flight
         .one_step_bias
         .iter()
@@ -573,15 +577,17 @@ fn regime_bias(envelope: &Metrics) -> String {
             .and_then(|v| v.one_step_bias.get(k))
             .map_or("–".to_string(), |x| format!("{:+.1}", x.bias_per_s[4]));
         s += &format!(
-            "| {} | {} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {:+.1} | {side_r} |\n",
+            "| {} | {} | {:+.1} | {:+.1} | {:+.1} | {:+.2} | {:+.1} | {:+.1} | {:+.1} | {:+.2} | {side_r} |\n",
             f.regime.label(),
             f.samples,
             f.bias_per_s[3],
             f.bias_per_s[4],
             f.bias_per_s[5],
+            f.bias_per_s[1],
             b.bias_per_s[3],
             b.bias_per_s[4],
             b.bias_per_s[5],
+            b.bias_per_s[1],
         );
     }
     s

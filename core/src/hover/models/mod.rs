@@ -174,8 +174,8 @@ pub trait StateModel<T: Real>: sealed::StepParts<T> {
 }
 
 /// Normalised firing strengths ξ that one model computed at a sample, offered to the others:
-/// a model scheduled on the same premise with the same sets (as the flight identifier's four
-/// are, on the forward speed) takes them instead of computing them again. The same premise
+/// a model scheduled on the same premise with the same sets (as the flight identifier's three
+/// rate models are, on the forward speed) takes them instead of computing them again. The same premise
 /// of the same sample and the same sets give the same ξ, bit for bit, so sharing changes no
 /// result, only the cost.
 #[derive(Copy, Clone, Debug)]
@@ -242,6 +242,17 @@ pub enum Premise {
     /// lift, the tail rotor's effectiveness), and they do so in the aircraft's own axes; the
     /// inertial velocity would split one physical regime over several headings.
     HeadingVelocity,
+    /// The horizontal speed first, `[|v_h|, v_up, 0]` (m/s): `|v_h| = √(v_x² + v_z²)` in any
+    /// direction (ground speed, which is airspeed in still air), then the vertical velocity
+    /// (up) and a zero (no third variable). What changes the rotor's thrust and in-plane force
+    /// is the advance ratio `μ = |v_h| / ΩR`, whatever the direction of flight: translational
+    /// lift (the induced inflow falls as the rotor moves into clean air) raises the thrust per
+    /// collective as much flying sideways as forwards. Scheduled on the forward speed, a
+    /// translational model takes sideways flight at 5 m/s for hover and predicts too little
+    /// thrust there (docs/results.md, "The velocity model's premise"). The fin, the tail rotor
+    /// and the stabiliser do depend on the direction: the rate models stay on
+    /// [`HeadingVelocity`](Self::HeadingVelocity).
+    HorizontalSpeed,
 }
 
 impl Premise {
@@ -256,6 +267,10 @@ impl Premise {
                 let [x, y, z] = s.velocity;
                 let (sp, cp) = (frame.sp, frame.cp);
                 [x * sp - z * cp, x * cp + z * sp, y]
+            }
+            Self::HorizontalSpeed => {
+                let [x, y, z] = s.velocity;
+                [(x * x + z * z).sqrt(), y, T::zero()]
             }
         }
     }

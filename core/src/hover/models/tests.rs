@@ -1,8 +1,8 @@
 //! Unit tests of the models' shared parts.
 
 use super::{Premise, SharedStrengths};
-use crate::hover::flight_sets;
 use crate::hover::table3::three_sets;
+use crate::hover::{flight_sets, Attitude, BodyFrame, Controls, HoverSample};
 use crate::membership::MembershipFunction::LeftShoulder;
 use crate::rule_base::{PremiseSets, RuleBase};
 
@@ -36,4 +36,49 @@ fn shared_strengths_are_taken_only_by_the_same_premise_and_sets() {
     };
     let kinds = RuleBase::<f32, 3, 3>::new([kinds, none(), none()]).unwrap();
     assert_eq!(shared.for_rules(Premise::HeadingVelocity, &kinds), None);
+}
+
+#[test]
+fn horizontal_speed_is_the_same_in_every_direction_and_heading() {
+    // 5 m/s flown north, east, south-west and sideways (heading 90° off the track), climbing
+    // at 1 m/s (paper axes: x east, y up, z south): one speed, the vertical velocity second.
+    let at = |velocity: [f32; 3], yaw: f32| {
+        let s = HoverSample {
+            time_us: 0,
+            attitude: Attitude {
+                roll: 0.0,
+                pitch: 0.0,
+                yaw,
+            },
+            velocity,
+            rates: [0.0; 3],
+            controls: Controls::default(),
+        };
+        Premise::HorizontalSpeed.of(&s, &BodyFrame::of(&s.attitude))
+    };
+    let d = 5.0 / 2f32.sqrt();
+    for (velocity, yaw) in [
+        ([0.0, 1.0, -5.0], 0.0),
+        ([5.0, 1.0, 0.0], 1.0),
+        ([-d, 1.0, d], -2.0),
+        ([0.0, 1.0, -5.0], core::f32::consts::FRAC_PI_2),
+    ] {
+        let p = at(velocity, yaw);
+        assert!((p[0] - 5.0).abs() < 1e-6, "{velocity:?}: {p:?}");
+        assert_eq!((p[1], p[2]), (1.0, 0.0));
+    }
+    // The forward speed of the last: zero (all of it is sideways).
+    let s = HoverSample {
+        time_us: 0,
+        attitude: Attitude {
+            roll: 0.0,
+            pitch: 0.0,
+            yaw: core::f32::consts::FRAC_PI_2,
+        },
+        velocity: [0.0, 1.0, -5.0],
+        rates: [0.0; 3],
+        controls: Controls::default(),
+    };
+    let forward = Premise::HeadingVelocity.of(&s, &BodyFrame::of(&s.attitude))[0];
+    assert!(forward.abs() < 1e-6, "{forward}");
 }

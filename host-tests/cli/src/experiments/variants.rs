@@ -62,7 +62,8 @@ pub struct ModelParameters {
     pub rule_updates: Vec<u32>,
     /// The premise the rules are scheduled on and each premise variable's sets, so that a
     /// firmware can rebuild the same rule base for a warm start (the C interface's
-    /// `rotorid_flight_sets_t` takes the forward-speed sets of `premise: "heading-velocity"`).
+    /// `rotorid_flight_sets_t` takes the speed sets the flight kinds' models share: those of
+    /// `premise: "heading-velocity"` and `"horizontal-speed"`).
     /// Absent for a model with one rule.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub premise: Option<PremiseParameters>,
@@ -71,8 +72,8 @@ pub struct ModelParameters {
 /// A model's premise and sets, as written next to its parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PremiseParameters {
-    /// `velocity` (`[v_x v_y v_z]`, m/s), `rates` (`[q r p]`, deg/s) or `heading-velocity`
-    /// (`[forward right up]`, m/s).
+    /// `velocity` (`[v_x v_y v_z]`, m/s), `rates` (`[q r p]`, deg/s), `heading-velocity`
+    /// (`[forward right up]`, m/s) or `horizontal-speed` (`[|v_h| up 0]`, m/s).
     pub kind: String,
     /// Each premise variable's sets in rule order (an empty list: the variable takes no part).
     pub variables: Vec<Vec<SetParameters>>,
@@ -101,6 +102,7 @@ impl PremiseParameters {
             Premise::Velocity => "velocity",
             Premise::Rates => "rates",
             Premise::HeadingVelocity => "heading-velocity",
+            Premise::HorizontalSpeed => "horizontal-speed",
             _ => "unknown",
         };
         let set = |mf: &MembershipFunction<f32>| {
@@ -368,7 +370,13 @@ mod tests {
         let params = Identifier::parameters(&id);
         for p in &params {
             let premise = p.premise.as_ref().expect("three rules per model");
-            assert_eq!(premise.kind, "heading-velocity");
+            // The translational model on the horizontal speed, the rates on the forward speed.
+            let kind = if p.model == "velocity" {
+                "horizontal-speed"
+            } else {
+                "heading-velocity"
+            };
+            assert_eq!(premise.kind, kind, "{}", p.model);
             let shapes: Vec<(&str, f32, f32)> = premise.variables[0]
                 .iter()
                 .map(|s| (s.shape.as_str(), s.centre, s.spread))
