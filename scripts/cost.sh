@@ -74,7 +74,7 @@ at the firmware's opt-level): each identifier steps through a synthetic
 stream that sweeps every premise variable over its range (forward speed 0–10 m/s, rates
 ±30 deg/s, ...), so that every rule of every rule base has fired before the measured steps
 (samples 150..400; from then on every update visits all parameters) and the flight
-identifier's three forward-speed rules all learn at most steps. SysTick ticks × 40.
+identifier's three speed rules all learn at most steps. SysTick ticks × 40.
 \`ExtendedFuzzyIdentifier\` (27 KiB) does not fit this binary's stack and is not measured.
 The last row is not an identifier's step: it is the one-step observer
 (\`rotorid::hover::Observer::predict\`, gain 0.5 on every state) predicting the next sample

@@ -379,30 +379,49 @@ fn stick_caveats(stds: &[f64]) -> Vec<String> {
         .collect()
 }
 
-/// The flight default's forward-speed rules that the training data never reached.
+/// The flight default's rules that the training data never reached: its rate models' on the
+/// forward speed, its translational model's on the horizontal speed in any direction.
 fn rule_caveats(training: &[Vec<SensorSample>], rate_hz: f64) -> Vec<String> {
     let min_samples = (MIN_RULE_S * rate_hz).ceil() as usize;
-    let forward = |s: &SensorSample| s.v_north * s.yaw.cos() + s.v_east * s.yaw.sin();
-    let unlearnt: Vec<String> = RULE_CENTRES_MPS
-        .iter()
-        .filter(|c| {
-            training
-                .iter()
-                .flatten()
-                .filter(|s| (forward(s) - **c).abs() < RULE_SPREAD_MPS)
-                .count()
-                < min_samples
-        })
-        .map(|c| format!("{c:.0}"))
-        .collect();
-    let speeds = match unlearnt.as_slice() {
-        [] => return Vec::new(),
-        [one] => format!("rule at {one} m/s was"),
-        [first @ .., last] => format!("rules at {} and {last} m/s were", first.join(", ")),
+    let unlearnt = |speed: &dyn Fn(&SensorSample) -> f64| -> Vec<String> {
+        RULE_CENTRES_MPS
+            .iter()
+            .filter(|c| {
+                training
+                    .iter()
+                    .flatten()
+                    .filter(|s| (speed(s) - **c).abs() < RULE_SPREAD_MPS)
+                    .count()
+                    < min_samples
+            })
+            .map(|c| format!("{c:.0}"))
+            .collect()
     };
-    vec![format!(
-        "the flight default's forward-speed {speeds} hardly reached (under {MIN_RULE_S} s of flight within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's",
-    )]
+    let forward = unlearnt(&|s| s.v_north * s.yaw.cos() + s.v_east * s.yaw.sin());
+    let horizontal = unlearnt(&|s| s.v_north.hypot(s.v_east));
+    let speeds = |unlearnt: &[String]| match unlearnt {
+        [] => None,
+        [one] => Some(format!("rule at {one} m/s was")),
+        [first @ .., last] => Some(format!("rules at {} and {last} m/s were", first.join(", "))),
+    };
+    let prior = format!(
+        "hardly reached (under {MIN_RULE_S} s of flight within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's"
+    );
+    if forward == horizontal {
+        return speeds(&forward)
+            .map(|s| format!("the flight default's {s} {prior} (the rates' forward speed and the velocities' horizontal speed)"))
+            .into_iter()
+            .collect();
+    }
+    [
+        speeds(&forward)
+            .map(|s| format!("the flight default's rate models' forward-speed {s} {prior}")),
+        speeds(&horizontal)
+            .map(|s| format!("the flight default's velocity model's horizontal-speed {s} {prior}")),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// The verdict as text (at most about 20 lines).

@@ -264,7 +264,7 @@ def _kind_class(kind: str, doc: str) -> type:
 
 
 FlightIdentifier = _kind_class(
-    "flight", "The flight default: extended flight structures, three forward-speed rules, local learning (ROTORID_KIND_FLIGHT)."
+    "flight", "The flight default: extended flight structures, three speed rules (the rates on the forward speed, the velocity on the horizontal speed), local learning (ROTORID_KIND_FLIGHT)."
 )
 FlightPlainIdentifier = _kind_class("flight_plain", "The flight structures with one rule (ROTORID_KIND_FLIGHT_PLAIN).")
 PaperFuzzyIdentifier = _kind_class("paper_fuzzy", "The paper's fuzzy identifier, Table 3 sets, global RLS (ROTORID_KIND_PAPER_FUZZY).")
