@@ -401,23 +401,32 @@ fn rule_caveats(training: &[Vec<SensorSample>], rate_hz: f64) -> Vec<String> {
     let horizontal = unlearnt(&|s| s.v_north.hypot(s.v_east));
     let speeds = |unlearnt: &[String]| match unlearnt {
         [] => None,
-        [one] => Some(format!("rule at {one} m/s was")),
-        [first @ .., last] => Some(format!("rules at {} and {last} m/s were", first.join(", "))),
+        [one] => Some((format!("rule at {one} m/s"), "was")),
+        [first @ .., last] => Some((
+            format!("rules at {} and {last} m/s", first.join(", ")),
+            "were",
+        )),
     };
     let prior = format!(
         "hardly reached (under {MIN_RULE_S} s of flight within {RULE_SPREAD_MPS} m/s): its models there are the prior, not the log's"
     );
     if forward == horizontal {
         return speeds(&forward)
-            .map(|s| format!("the flight default's {s} {prior} (the rates' forward speed and the velocities' horizontal speed)"))
+            .map(|(rules, were)| {
+                format!("the flight default's {rules} (the rates' forward speed, the velocity's horizontal speed) {were} {prior}")
+            })
             .into_iter()
             .collect();
     }
     [
-        speeds(&forward)
-            .map(|s| format!("the flight default's rate models' forward-speed {s} {prior}")),
-        speeds(&horizontal)
-            .map(|s| format!("the flight default's velocity model's horizontal-speed {s} {prior}")),
+        speeds(&forward).map(|(rules, were)| {
+            format!("the flight default's forward-speed {rules} (its rate models) {were} {prior}")
+        }),
+        speeds(&horizontal).map(|(rules, were)| {
+            format!(
+                "the flight default's horizontal-speed {rules} (its velocity model) {were} {prior}"
+            )
+        }),
     ]
     .into_iter()
     .flatten()

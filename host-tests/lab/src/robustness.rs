@@ -235,7 +235,11 @@ pub fn robustness_document(runs: &[PlantRuns], how: &str) -> String {
          changed after this run). The one-step observer (`rotorid::hover::Observer`, each \
          variant's gain found on its own training flight) was designed on the X-Cell's hover \
          pair and checked on 12 of these plants before it was adopted; it has no setting that \
-         was chosen on them.\n\n\
+         was chosen on them. The translational model's premise, the horizontal speed instead \
+         of the forward speed (`Premise::HorizontalSpeed`), comes from the rotor's physics \
+         (translational lift in any direction) and has no setting; it was checked on the \
+         envelope pairs of these 24 variations (two seed pairs each, with scratch scripts \
+         not kept) before it was adopted, and docs/seeds.md has it over ten.\n\n\
          Columns: the flight default's error as a ratio to extended plain's (below 1 is \
          better), against issue 11's criteria: on the hover pair at most {tol} on every state, \
          free run (2 s windows) and one step (θ frozen; each variant's one-step predictor, its \

@@ -175,9 +175,9 @@ pub trait StateModel<T: Real>: sealed::StepParts<T> {
 
 /// Normalised firing strengths ξ that one model computed at a sample, offered to the others:
 /// a model scheduled on the same premise with the same sets (as the flight identifier's three
-/// rate models are, on the forward speed) takes them instead of computing them again. The same premise
-/// of the same sample and the same sets give the same ξ, bit for bit, so sharing changes no
-/// result, only the cost.
+/// rate models are, on the forward speed) takes them instead of computing them again. The
+/// same premise of the same sample and the same sets give the same ξ, bit for bit, so sharing
+/// changes no result, only the cost.
 #[derive(Copy, Clone, Debug)]
 pub struct SharedStrengths<'a, T> {
     premise: Premise,
@@ -249,7 +249,7 @@ pub enum Premise {
     /// lift (the induced inflow falls as the rotor moves into clean air) raises the thrust per
     /// collective as much flying sideways as forwards. Scheduled on the forward speed, a
     /// translational model takes sideways flight at 5 m/s for hover and predicts too little
-    /// thrust there (docs/results.md, "The velocity model's premise"). The fin, the tail rotor
+    /// thrust there (docs/results.md, "Where the trim is wrong"). The fin, the tail rotor
     /// and the stabiliser do depend on the direction: the rate models stay on
     /// [`HeadingVelocity`](Self::HeadingVelocity).
     HorizontalSpeed,
