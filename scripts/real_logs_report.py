@@ -30,8 +30,8 @@ def section(log, run):
     v = {x["name"]: x for x in m["variants"]}
     flight, plain, selected = v["flight"], v["extended plain"], v["flight selected"]
     lines += ["Free run (2 s windows), mean absolute error, and ratios (below 1 is better); "
-              "*selected* is the flight default with the terms its training data do not support "
-              "switched off (`flight selected`):", "",
+              "*selected* is the flight default with the rules and terms its training data do not "
+              "support switched off (`flight selected`):", "",
               "| axis | flight default | selected | hold | extended plain | flight / hold "
               "| selected / hold | flight / ext. plain |",
               "|---|---:|---:|---:|---:|---:|---:|---:|"]
@@ -82,7 +82,11 @@ def summary(runs):
                 cells.append(f"{f / h:.2f}" if h > 0 else "—")
         train_s = m["training_samples"] / m["rate_hz"]
         off = (m.get("verdict") or {}).get("terms_off") or []
-        how = (f"{len(off)} terms off" if off else
+        one_rule = [t.split(":")[0] for t in off if t.endswith(": rules")]
+        terms = [t for t in off if not t.endswith(": rules")]
+        parts = ([f"one rule for {', '.join(one_rule)}"] if one_rule else []) + \
+                ([f"{len(terms)} terms off"] if terms else [])
+        how = ("; ".join(parts) if off else
                "every term kept" + ("" if (m.get("verdict") or {}).get("terms_checked")
                                     else " (too short to check on)"))
         verdict = m.get("verdict") or {}
@@ -94,7 +98,8 @@ def summary(runs):
     out = ["## Pitch and roll against hold, every log", "",
            "Free run / hold on the held-out part (below 1: the model predicts the rate better than "
            "holding it). The selection needs at least 24 s of training data (six blocks of two "
-           "2 s windows); with less, *selected* keeps every term, and no controls' delay is "
+           "2 s windows); with less, *selected* keeps every term and every model's three speed "
+           "rules, and no controls' delay is "
            "chosen (the delay column: how much later than logged the controls were taken to act, "
            "chosen on the same blocks by the flight default's free run, 0 to 150 ms in whole "
            "steps). The last column is the verdict's model to fly (none: the log identifies "

@@ -67,8 +67,9 @@ for plant, title in PLANTS:
             f"{m} {sum(1 for _, v in ok if v == m)}" for m in sorted({v for _, v in ok if v})) + ".")
         print()
         counts = sorted({t: off.count(t) for t in off}.items(), key=lambda kv: (-kv[1], kv[0]))
-        print("Terms the selection switched off (`flight selected`; pairs out of "
-              f"{len(ok)}): " + (", ".join(f"{t} {n}" for t, n in counts) or "none") + ".")
+        print("Rules and terms the selection switched off (`flight selected`; `rules`: the model "
+              f"has one rule; pairs out of {len(ok)}): "
+              + (", ".join(f"{t} {n}" for t, n in counts) or "none") + ".")
         for base, label in [("extended plain", "extended plain's"), (None, "holding the measured state")]:
             print()
             print(f"Free run ÷ {label} (median / worst over the pairs):")

@@ -30,9 +30,9 @@ pub mod ts;
 pub use dyn_identifier::DynIdentifier;
 pub use error::{ConfigError, Error, Quantity};
 pub use hover::{
-    flight_sets, Attitude, Controls, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier,
-    ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier,
-    HoverSample, HoverState, Observer, PaperFuzzyIdentifier, PaperLocalIdentifier,
-    PaperPlainIdentifier, Quaternion, RateNoise, RotationMatrix, StepOutput,
+    flight_sets, unscheduled_sets, Attitude, Controls, ExtendedFuzzyIdentifier,
+    ExtendedLocalIdentifier, ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier,
+    HoverConfig, HoverIdentifier, HoverSample, HoverState, Observer, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier, Quaternion, RateNoise, RotationMatrix, StepOutput,
 };
 pub use scalar::Real;

@@ -2,19 +2,21 @@
 // Test code, outside `#[test]` functions: a panic here is a failed test (Cargo.toml's lints).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 use rotorid::hover::{
-    flight_sets, Attitude, BodyFrame, Controls, HoverSample, HoverState, LocalRateModel,
-    LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel, VelocityStructure,
+    flight_sets, unscheduled_sets, Attitude, BodyFrame, Controls, HoverSample, HoverState,
+    LocalRateModel, LocalVelocityModel, Premise, RateAxis, RateStructure, StateModel,
+    VelocityStructure,
 };
 use rotorid::learning::Learning;
 use rotorid::membership::MembershipFunction::{Gaussian, LeftShoulder, RightShoulder};
-use rotorid::rls::{Algorithm, RlsConfig};
+use rotorid::rls::{Algorithm, RlsConfig, RlsState};
 use rotorid::rule_base::PremiseSets;
 use rotorid::rule_base::RuleBase;
 use rotorid::ts::local::LocalTsRls;
 use rotorid::ts::local::MIN_LOCAL_STRENGTH;
 use rotorid::ts::Scaling;
 use rotorid::{
-    Error, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, HoverIdentifier, Real,
+    Error, ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, HoverConfig,
+    HoverIdentifier, Real,
 };
 
 /// A manoeuvring sample sequence: forward flight up to ~12 m/s and back, rates and sticks
@@ -281,6 +283,65 @@ fn rate_models_take_the_velocity_models_strengths_where_it_is_scheduled_as_they_
         config,
     )
     .unwrap();
+    matches_models_learning_afresh(id);
+}
+
+/// Under `unscheduled_sets` the flight structure is its one-rule form, bit for bit: the
+/// first rule fires with ξ = 1 and learns as the plain model's only rule; the others stay at
+/// their prior.
+#[test]
+fn unscheduled_models_are_the_plain_models_bit_for_bit() {
+    let config = HoverConfig::default();
+    let mut unscheduled = FlightIdentifier::<f32>::flight_per_model(
+        config,
+        core::array::from_fn(|_| unscheduled_sets()),
+    )
+    .unwrap();
+    let mut plain = FlightPlainIdentifier::<f32>::flight_plain(config).unwrap();
+    for k in 0..1500 {
+        let s = sample(k);
+        let (a, b) = (unscheduled.step(&s).unwrap(), plain.step(&s).unwrap());
+        assert_eq!(bits(&a.prediction), bits(&b.prediction), "sample {k}");
+        assert_eq!(
+            a.innovation.map(|i| bits(&i)),
+            b.innovation.map(|i| bits(&i))
+        );
+    }
+    let (a, b) = (unscheduled.export(), plain.export());
+    first_rule_is_the_only_one(&a.velocity, &b.velocity[0]);
+    first_rule_is_the_only_one(&a.pitch, &b.pitch[0]);
+    first_rule_is_the_only_one(&a.yaw, &b.yaw[0]);
+    first_rule_is_the_only_one(&a.roll, &b.roll[0]);
+}
+
+/// `rules[0]` is `only`, bit for bit, and the other rules never learnt.
+fn first_rule_is_the_only_one<const D: usize, const DP: usize>(
+    rules: &[RlsState<f32, D, DP>],
+    only: &RlsState<f32, D, DP>,
+) {
+    let bits = |r: &[f32]| r.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&rules[0].theta), bits(&only.theta));
+    assert_eq!(bits(&rules[0].factor), bits(&only.factor));
+    assert_eq!(rules[0].updates, only.updates);
+    assert!(only.updates > 1000);
+    assert!(rules[1..]
+        .iter()
+        .all(|r| r.updates == 0 && r.theta.iter().all(|&t| t == 0.0)));
+}
+
+/// One model unscheduled among scheduled ones: the others keep sharing their strengths, and
+/// every model learns as it would alone.
+#[test]
+fn an_unscheduled_model_among_scheduled_ones_learns_as_it_would_alone() {
+    let config = HoverConfig::default();
+    let sets = [
+        flight_sets(),
+        flight_sets(),
+        flight_sets(),
+        unscheduled_sets(),
+    ];
+    let id = FlightIdentifier::<f32>::flight_per_model(config, sets).unwrap();
+    assert!(id.roll_model().premise_sets().1[0] == unscheduled_sets::<f32>());
     matches_models_learning_afresh(id);
 }
 

@@ -1025,6 +1025,24 @@ int32_t rotorid_init_flight(void *storage,
                             rotorid_error_t *error);
 
 /**
+ * `rotorid_init_flight` with speed sets of its own for each of the four models: `sets`
+ * points to an array of four, in the order velocity, q̂, r̂, p̂
+ * (`rotorid::FlightIdentifier::flight_per_model`). A model whose sets are
+ * `rotorid_flight_sets_unscheduled` has one rule in effect: what `rotorid identify` writes
+ * as `"one_rule"` in a selection (and as those sets in `params-*.json`). `sets` is required
+ * (NULL: `ROTORID_E_NULL`); the other arguments, pointers and codes as `rotorid_init`.
+ *
+ * # Safety
+ * As `rotorid_init`, and `sets` is NULL or valid for reads of four `rotorid_flight_sets_t`.
+ */
+int32_t rotorid_init_flight_per_model(void *storage,
+                                      size_t storage_size,
+                                      const rotorid_config_t *config,
+                                      const rotorid_flight_sets_t *sets,
+                                      rotorid_ident_t **handle,
+                                      rotorid_error_t *error);
+
+/**
  * `rotorid_init` for `ROTORID_KIND_FLIGHT_PLAIN`, linking that kind only.
  *
  * # Safety
@@ -1563,6 +1581,16 @@ int32_t rotorid_config_paper(rotorid_config_t *out);
  * `out` is NULL or points to a writable `rotorid_flight_sets_t`.
  */
 int32_t rotorid_flight_sets_default(rotorid_flight_sets_t *out);
+
+/**
+ * Speed sets under which a flight model has one rule in effect
+ * (`rotorid::hover::unscheduled_sets`: the first set's membership is 1 at every speed a
+ * sample can carry, the others' 0), for `rotorid_init_flight_per_model`.
+ *
+ * # Safety
+ * `out` is NULL or points to a writable `rotorid_flight_sets_t`.
+ */
+int32_t rotorid_flight_sets_unscheduled(rotorid_flight_sets_t *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -157,7 +157,7 @@ unsafe fn init<I: Build + DynIdentifier<AnyAttitude<f32>> + 'static>(
     storage: *mut core::ffi::c_void,
     storage_size: usize,
     config: *const rotorid_config_t,
-    sets: *const rotorid_flight_sets_t,
+    sets: Sets<'_>,
     handle: *mut *mut rotorid_ident_t,
 ) -> Result<(), rotorid_error_t> {
     // SAFETY: the caller's contract.
@@ -179,7 +179,7 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
     storage: *mut core::ffi::c_void,
     storage_size: usize,
     config: *const rotorid_config_t,
-    sets: *const rotorid_flight_sets_t,
+    sets: Sets<'_>,
     handle: *mut *mut rotorid_ident_t,
 ) -> Result<(), rotorid_error_t> {
     let storage = storage.cast::<u8>();
@@ -192,7 +192,7 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
     if storage_size < size_of::<Slot<I>>() {
         return Err(rotorid_error_t::interface(ROTORID_E_STORAGE_SIZE));
     }
-    if !sets.is_null() && kind != ROTORID_KIND_FLIGHT {
+    if !matches!(sets, Sets::Default) && kind != ROTORID_KIND_FLIGHT {
         return Err(rotorid_error_t::interface(ROTORID_E_ARGUMENT));
     }
     let config = if config.is_null() {
@@ -209,7 +209,7 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
     unsafe {
         I::build_into(
             config,
-            sets.as_ref(),
+            sets,
             core::ptr::addr_of_mut!((*slot).ident),
         )?;
         core::ptr::addr_of_mut!((*slot).header).write(Header {
@@ -268,7 +268,7 @@ pub unsafe extern "C" fn rotorid_init(
     error: *mut rotorid_error_t,
 ) -> i32 {
     // SAFETY: the caller's contract.
-    let result = for_kind!(kind, I => unsafe { init::<I>(kind, storage, storage_size, config, sets, handle) },
+    let result = for_kind!(kind, I => unsafe { init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle) },
         _ => Err(rotorid_error_t::interface(ROTORID_E_KIND)));
     // SAFETY: the caller's contract.
     unsafe { report(result, error) }
@@ -299,7 +299,48 @@ pub unsafe extern "C" fn rotorid_init_flight(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
+            error,
+        )
+    }
+}
+
+/// `rotorid_init_flight` with speed sets of its own for each of the four models: `sets`
+/// points to an array of four, in the order velocity, q̂, r̂, p̂
+/// (`rotorid::FlightIdentifier::flight_per_model`). A model whose sets are
+/// `rotorid_flight_sets_unscheduled` has one rule in effect: what `rotorid identify` writes
+/// as `"one_rule"` in a selection (and as those sets in `params-*.json`). `sets` is required
+/// (NULL: `ROTORID_E_NULL`); the other arguments, pointers and codes as `rotorid_init`.
+///
+/// # Safety
+/// As `rotorid_init`, and `sets` is NULL or valid for reads of four `rotorid_flight_sets_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_init_flight_per_model(
+    storage: *mut core::ffi::c_void,
+    storage_size: usize,
+    config: *const rotorid_config_t,
+    sets: *const rotorid_flight_sets_t,
+    handle: *mut *mut rotorid_ident_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    type I = rotorid::FlightIdentifier<f32>;
+    let kind = ROTORID_KIND_FLIGHT;
+    // SAFETY: the caller's contract: four sets where `sets` points.
+    let Some(each) = (unsafe { sets.cast::<[rotorid_flight_sets_t; 4]>().as_ref() }) else {
+        // SAFETY: the caller's contract.
+        return unsafe { report(Err(rotorid_error_t::interface(ROTORID_E_NULL)), error) };
+    };
+    // SAFETY: the caller's contract.
+    unsafe {
+        report(
+            init::<I>(
+                kind,
+                storage,
+                storage_size,
+                config,
+                Sets::PerModel(each),
+                handle,
+            ),
             error,
         )
     }
@@ -323,7 +364,7 @@ pub unsafe extern "C" fn rotorid_init_flight_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -347,7 +388,7 @@ pub unsafe extern "C" fn rotorid_init_paper_fuzzy(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -371,7 +412,7 @@ pub unsafe extern "C" fn rotorid_init_paper_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -395,7 +436,7 @@ pub unsafe extern "C" fn rotorid_init_extended_fuzzy(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -419,7 +460,7 @@ pub unsafe extern "C" fn rotorid_init_extended_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -443,7 +484,7 @@ pub unsafe extern "C" fn rotorid_init_paper_local(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -467,7 +508,7 @@ pub unsafe extern "C" fn rotorid_init_extended_local(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            init::<I>(kind, storage, storage_size, config, sets, handle),
+            init::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }

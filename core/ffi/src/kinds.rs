@@ -165,12 +165,37 @@ fn premise_sets(s: &rotorid_flight_sets_t) -> rotorid::rule_base::PremiseSets<f3
     ])
 }
 
+/// The speed sets an init was given.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Sets<'a> {
+    /// None: the kind's own (for the flight kind, `rotorid::hover::flight_sets`).
+    Default,
+    /// One list for the four models (`rotorid_init`'s `sets`).
+    Shared(&'a rotorid_flight_sets_t),
+    /// One list per model: velocity, q̂, r̂, p̂ (`rotorid_init_flight_per_model`).
+    PerModel(&'a [rotorid_flight_sets_t; 4]),
+}
+
+impl Sets<'_> {
+    /// `rotorid_init`'s `sets`: NULL for the defaults.
+    ///
+    /// # Safety
+    /// `sets` is NULL or valid for reads for as long as the result is used.
+    pub(crate) unsafe fn of<'a>(sets: *const rotorid_flight_sets_t) -> Sets<'a> {
+        // SAFETY: the caller's contract.
+        match unsafe { sets.as_ref() } {
+            Some(s) => Sets::Shared(s),
+            None => Sets::Default,
+        }
+    }
+}
+
 /// How each kind is built from the C settings.
 pub(crate) trait Build: Sized {
     /// The core's constructor of the kind.
     fn build(
         config: HoverConfig<f32>,
-        sets: Option<&rotorid_flight_sets_t>,
+        sets: Sets<'_>,
     ) -> Result<Self, rotorid::Error>;
 
     /// Builds straight into `out`: the identifier is never copied through the caller's
@@ -181,7 +206,7 @@ pub(crate) trait Build: Sized {
     #[inline(never)]
     unsafe fn build_into(
         config: HoverConfig<f32>,
-        sets: Option<&rotorid_flight_sets_t>,
+        sets: Sets<'_>,
         out: *mut Self,
     ) -> Result<(), rotorid::Error> {
         // SAFETY: the caller's contract.
@@ -196,7 +221,7 @@ macro_rules! build_without_sets {
         impl Build for $I {
             fn build(
                 config: HoverConfig<f32>,
-                _: Option<&rotorid_flight_sets_t>,
+                _: Sets<'_>,
             ) -> Result<Self, rotorid::Error> {
                 $new(config)
             }
@@ -217,13 +242,16 @@ build_without_sets! {
 impl Build for FlightIdentifier<f32> {
     fn build(
         config: HoverConfig<f32>,
-        sets: Option<&rotorid_flight_sets_t>,
+        sets: Sets<'_>,
     ) -> Result<Self, rotorid::Error> {
+        // One constructor for the three forms (`flight` is `flight_per_model` with the same
+        // sets four times): a firmware that never passes per-model sets links no more code.
         let sets = match sets {
-            Some(s) => premise_sets(s),
-            None => flight_sets(),
+            Sets::Default => core::array::from_fn(|_| flight_sets()),
+            Sets::Shared(s) => core::array::from_fn(|_| premise_sets(s)),
+            Sets::PerModel(each) => each.each_ref().map(premise_sets),
         };
-        FlightIdentifier::flight(config, sets)
+        FlightIdentifier::flight_per_model(config, sets)
     }
 }
 

@@ -86,7 +86,7 @@ pub unsafe extern "C" fn rotorid_lean_init_flight(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -147,7 +147,7 @@ pub unsafe extern "C" fn rotorid_lean_init_flight_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -217,7 +217,7 @@ pub unsafe extern "C" fn rotorid_lean_init_paper_fuzzy(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -281,7 +281,7 @@ pub unsafe extern "C" fn rotorid_lean_init_paper_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -345,7 +345,7 @@ pub unsafe extern "C" fn rotorid_lean_init_extended_fuzzy(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -415,7 +415,7 @@ pub unsafe extern "C" fn rotorid_lean_init_extended_plain(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -485,7 +485,7 @@ pub unsafe extern "C" fn rotorid_lean_init_paper_local(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }
@@ -549,7 +549,7 @@ pub unsafe extern "C" fn rotorid_lean_init_extended_local(
     // SAFETY: the caller's contract.
     unsafe {
         report(
-            prepare::<I>(kind, storage, storage_size, config, sets, handle),
+            prepare::<I>(kind, storage, storage_size, config, Sets::of(sets), handle),
             error,
         )
     }

@@ -405,6 +405,84 @@ fn configuration_errors_have_config_codes() {
     }
 }
 
+/// `rotorid_init_flight_per_model`: four times the unscheduled sets is the plain kind bit
+/// for bit, four times the defaults is `rotorid_init_flight`; NULL sets and bad sets are
+/// refused without writing the storage.
+#[test]
+fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
+    let (mut unscheduled, mut defaults) = (empty_sets(), empty_sets());
+    // SAFETY: valid pointers.
+    unsafe {
+        assert_eq!(rotorid_flight_sets_unscheduled(&mut unscheduled), ROTORID_OK);
+        assert_eq!(rotorid_flight_sets_default(&mut defaults), ROTORID_OK);
+    }
+    for (sets, twin) in [
+        ([unscheduled; 4], ROTORID_KIND_FLIGHT_PLAIN),
+        ([defaults; 4], ROTORID_KIND_FLIGHT),
+    ] {
+        let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
+        let mut h = null_mut();
+        // SAFETY: valid pointers; four sets.
+        let rc = unsafe {
+            rotorid_init_flight_per_model(
+                storage.as_mut_ptr().cast(),
+                ROTORID_FLIGHT_STORAGE_SIZE,
+                null(),
+                sets.as_ptr(),
+                &mut h,
+                null_mut(),
+            )
+        };
+        assert_eq!(rc, ROTORID_OK);
+        let mut other = Prepared::new(twin);
+        for k in 0..200 {
+            let (mut a, mut b) = (
+                rotorid_step_output_t::default(),
+                rotorid_step_output_t::default(),
+            );
+            // SAFETY: valid pointers.
+            unsafe {
+                assert_eq!(rotorid_step(h, &sample(k), &mut a, null_mut()), ROTORID_OK);
+                assert_eq!(rotorid_step(other.h(), &sample(k), &mut b, null_mut()), ROTORID_OK);
+            }
+            let bits = |o: &rotorid_step_output_t| {
+                let p = o.prediction;
+                [p.velocity, p.rates].map(|v| v.map(f32::to_bits))
+            };
+            assert_eq!(bits(&a), bits(&b), "kind {twin}, sample {k}");
+        }
+    }
+    let mut bad = [defaults; 4];
+    bad[3].spread[1] = 0.0;
+    for (sets, code) in [
+        (null(), ROTORID_E_NULL),
+        (bad.as_ptr(), ROTORID_E_CONFIG_MEMBERSHIP),
+    ] {
+        let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
+        let (mut h, mut err) = (null_mut(), rotorid_error_t::default());
+        // SAFETY: valid pointers; NULL or four sets.
+        let rc = unsafe {
+            rotorid_init_flight_per_model(
+                storage.as_mut_ptr().cast(),
+                ROTORID_FLIGHT_STORAGE_SIZE,
+                null(),
+                sets,
+                &mut h,
+                &mut err,
+            )
+        };
+        assert_eq!((rc, err.code), (code, code));
+        assert!(h.is_null() && storage.iter().all(|&w| w == 0));
+    }
+}
+
+fn empty_sets() -> rotorid_flight_sets_t {
+    rotorid_flight_sets_t {
+        centre: [0.0; 3],
+        spread: [0.0; 3],
+    }
+}
+
 /// The worked example of `docs/c-interface.md` ("The export format"): the export of a
 /// `ROTORID_KIND_PAPER_PLAIN` identifier after 20 samples, as a hex dump with the fields
 /// named. The section between its markers must be what this test prints; regenerate it with

@@ -3,7 +3,7 @@
 //! paper's inertial axes (x east, y up, z south), body rates `[q r p]` in deg/s.
 
 use rotorid::hover::{
-    flight_sets, AnyAttitude, Attitude, Controls, HoverSample, HoverState, Quaternion,
+    flight_sets, unscheduled_sets, AnyAttitude, Attitude, Controls, HoverSample, HoverState, Quaternion,
     RegressorScaling, StepOutput,
 };
 use rotorid::rls::{Algorithm, RlsConfig};
@@ -280,15 +280,32 @@ pub unsafe extern "C" fn rotorid_config_paper(out: *mut rotorid_config_t) -> i32
 /// `out` is NULL or points to a writable `rotorid_flight_sets_t`.
 #[no_mangle]
 pub unsafe extern "C" fn rotorid_flight_sets_default(out: *mut rotorid_flight_sets_t) -> i32 {
-    let mut sets = rotorid_flight_sets_t {
+    // SAFETY: the caller's contract.
+    unsafe { report(put(out, c_sets(&flight_sets())), core::ptr::null_mut()) }
+}
+
+/// Speed sets under which a flight model has one rule in effect
+/// (`rotorid::hover::unscheduled_sets`: the first set's membership is 1 at every speed a
+/// sample can carry, the others' 0), for `rotorid_init_flight_per_model`.
+///
+/// # Safety
+/// `out` is NULL or points to a writable `rotorid_flight_sets_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_flight_sets_unscheduled(out: *mut rotorid_flight_sets_t) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe { report(put(out, c_sets(&unscheduled_sets())), core::ptr::null_mut()) }
+}
+
+/// Three sets (left shoulder, Gaussian, right shoulder) as the C interface holds them.
+fn c_sets(sets: &[rotorid::membership::MembershipFunction<f32>]) -> rotorid_flight_sets_t {
+    let mut out = rotorid_flight_sets_t {
         centre: [0.0; 3],
         spread: [0.0; 3],
     };
-    for (i, mf) in flight_sets::<f32>().iter().enumerate() {
-        if let (Some(c), Some(s)) = (sets.centre.get_mut(i), sets.spread.get_mut(i)) {
+    for (i, mf) in sets.iter().enumerate() {
+        if let (Some(c), Some(s)) = (out.centre.get_mut(i), out.spread.get_mut(i)) {
             (*c, *s) = mf.parameters();
         }
     }
-    // SAFETY: the caller's contract.
-    unsafe { report(put(out, sets), core::ptr::null_mut()) }
+    out
 }

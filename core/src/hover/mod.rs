@@ -39,7 +39,8 @@ pub use noise::RateNoise;
 pub use observer::{GainSearch, Observer};
 pub use sample::{Controls, HoverSample, HoverState, SampleLimits};
 pub use variants::{
-    flight_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
-    FlightIdentifier, FlightPlainIdentifier, GlobalRateModel, GlobalVelocityModel, LocalRateModel,
-    LocalVelocityModel, PaperFuzzyIdentifier, PaperLocalIdentifier, PaperPlainIdentifier,
+    flight_sets, unscheduled_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier,
+    ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, GlobalRateModel,
+    GlobalVelocityModel, LocalRateModel, LocalVelocityModel, PaperFuzzyIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier,
 };

@@ -113,6 +113,25 @@ pub fn flight_sets<T: Real>() -> PremiseSets<T> {
     table3::three_sets((0.0, 2.5), (5.0, 2.5), (10.0, 2.5))
 }
 
+/// Three sets under which a three-rule model is its one-rule form: a left shoulder whose
+/// membership is 1 at every premise value a sample can carry (centre 10⁵, beyond
+/// [`SampleLimits`](crate::hover::SampleLimits)' speeds and rates), then a Gaussian and a right
+/// shoulder whose memberships are exactly 0 there (centres 10⁶ and 2·10⁶, σ = 1: `exp` of
+/// about −5·10¹¹ is 0 in f32 and f64). So the first rule fires with ξ = 1 at every sample and
+/// the others never: the first rule learns alone, with the plain model's weights and
+/// forgetting, and the model predicts and learns bit for bit as the one-rule model
+/// ([`FlightPlainIdentifier`]'s, for the flight structure) on every sample both accept. The
+/// idle rules cost their memory and little time (they are never updated).
+///
+/// What it is for: a model whose dynamics the data show not to change with the speed (or
+/// that the data cannot resolve per region) keeps its sizes, its snapshot format and its
+/// place among the flight identifier's four models, but is not scheduled
+/// ([`FlightIdentifier::flight_per_model`]; `rotorid identify` chooses this per model from the
+/// training data).
+pub fn unscheduled_sets<T: Real>() -> PremiseSets<T> {
+    table3::three_sets((1e5, 1.0), (1e6, 1.0), (2e6, 1.0))
+}
+
 /// A translational model learnt globally (the paper's RLS over `N = R·D` parameters, `NP`
 /// packed covariance entries).
 pub type GlobalVelocityModel<T, const R: usize, const D: usize, const N: usize, const NP: usize> =
@@ -307,8 +326,25 @@ impl<T: Real> FlightIdentifier<T> {
     /// [`flight_sets`] or [`crate::premise::quantile_sets`]) for all four models: on the
     /// forward speed for the rates, on the horizontal speed for the translational model.
     pub fn flight(config: HoverConfig<T>, forward: PremiseSets<T>) -> Result<Self, Error> {
-        let base = || RuleBase::new([forward.clone(), PremiseSets::new(), PremiseSets::new()]);
-        build(config, four(base)?, Design::FLIGHT)
+        Self::flight_per_model(config, core::array::from_fn(|_| forward.clone()))
+    }
+
+    /// The flight identifier with speed sets of its own for each model, in the order
+    /// velocity, q̂, r̂, p̂ (m/s, three sets each; the premises as in
+    /// [`flight`](Self::flight), which is this with the same sets four times). With
+    /// [`unscheduled_sets`] a model is its one-rule form; the rate models that have the same
+    /// sets still share their firing strengths.
+    pub fn flight_per_model(
+        config: HoverConfig<T>,
+        sets: [PremiseSets<T>; 4],
+    ) -> Result<Self, Error> {
+        let [v, q, r, p] = sets;
+        let rules = |s| RuleBase::new([s, PremiseSets::new(), PremiseSets::new()]);
+        build(
+            config,
+            (rules(v)?, rules(q)?, rules(r)?, rules(p)?),
+            Design::FLIGHT,
+        )
     }
 }
 

@@ -106,7 +106,8 @@ pub struct Verdict {
     /// What the log could not show, and why.
     pub caveats: Vec<String>,
     /// The flight default's optional terms that the term selection switched off (`"r: κ"`,
-    /// …; see [`select_terms`](crate::experiments::select_terms)): the candidate `flight
+    /// …), and the models it left with one rule (`"r: rules"`; see
+    /// [`select_terms`](crate::experiments::select_terms)): the candidate `flight
     /// selected`, whether or not it is the model chosen.
     #[serde(default)]
     pub terms_off: Vec<String>,
@@ -264,7 +265,7 @@ pub fn verdict(
         } else {
             terms_off.join(", ")
         };
-        format!("{why}; the flight default's terms that the training data did not support are switched off ({off})")
+        format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed)")
     } else {
         why
     };
@@ -478,7 +479,7 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
     if !v.terms_off.is_empty() && v.model != "flight selected" {
         let _ = writeln!(
             s,
-            "  terms the training data did not support (flight selected): {}",
+            "  rules and terms the training data did not support (flight selected): {}",
             v.terms_off.join(", ")
         );
     }

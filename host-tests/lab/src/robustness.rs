@@ -304,7 +304,7 @@ pub fn choice_markdown(runs: &[PlantRuns]) -> String {
         }
         s += &format!(
             "### {family}: the verdict's choice\n\n\
-             | plant | hover: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | terms off | envelope: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | terms off |\n\
+             | plant | hover: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | rules and terms off | envelope: model | free run ÷ extended plain, worst | r ÷ hold | ÷ flight default, worst | rules and terms off |\n\
              |---|---|---:|---:|---:|---|---|---:|---:|---:|---|\n{table}\n\
              Of {n} runs (hover and envelope): the chosen model's yaw free run beats holding the \
              measured rate on {beats_hold}; it is within {tol:.0} % of the flight default on every \
@@ -325,7 +325,8 @@ fn choice_section(runs: &[PlantRuns]) -> String {
         "## The model the verdict chooses\n\n\
          `rotorid identify` flies the candidate with the lowest free run relative to holding the \
          measured state on the verification flight: the flight default, `flight selected` (its \
-         optional terms chosen from the training data by cross-validated free run, \
+         rules per model and optional terms chosen from the training data by cross-validated \
+         free run; `p: rules`: the roll model has one rule, \
          docs/cli.md), `flight plain` or extended plain. Per plant and pair: the chosen model, \
          its worst free-run ratio to extended plain's, its yaw free run against holding the \
          measured rate, its worst ratio to the flight default's free run (above 1: the choice \

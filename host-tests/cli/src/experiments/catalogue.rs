@@ -103,7 +103,7 @@ pub fn variants() -> Vec<Variant> {
         },
         Variant {
             name: "flight selected",
-            description: "the flight default with the optional terms its training data do not support switched off (backward elimination by free run on held-out blocks of the training data; the terms are pinned at zero by a zero prior variance, so the exported state carries the choice)",
+            description: "the flight default with the speed rules and optional terms its training data do not support switched off (per model: one rule instead of three if that is no worse, then backward elimination of terms, by free run on held-out blocks of the training data; a model's one rule is the first of three under sets that fire it alone, and a term is pinned at zero by a zero prior variance, so the exported state carries the choice)",
             kind: Some(FlightIdentifier::<f32>::KIND),
             build: |training, period| {
                 let selection = select_terms(training, period)?;

@@ -20,14 +20,22 @@
 //!   on the learning blocks and scored by its free run ([`SELECTION_WINDOW_S`] windows) on the
 //!   check blocks, relative to holding the measured state: the geometric mean of
 //!   `free run / hold` over the model's own axes.
-//! * Model by model, the term whose removal gives the lowest score is switched off if the
-//!   score does not get worse, and the search goes on until every removal makes it worse
-//!   (ties go to the simpler model).
+//! * Model by model, first the rules: the model with one rule (its three speed rules
+//!   replaced by [`unscheduled_sets`], under which the first rule fires alone at every sample:
+//!   bit for bit the one-rule model, in the same sizes) replaces the scheduled one if the
+//!   score does not get worse. A rule learns only from the part of the flight near its speed,
+//!   so three rules hold three times the parameters on the same data: where the dynamics do
+//!   not change with the speed, or the flight did not visit the other speeds enough, they add
+//!   variance and no fit. Then the terms: the term whose removal gives the lowest score is
+//!   switched off if the score does not get worse, and the search goes on until every
+//!   removal makes it worse (ties go to the simpler model).
 //!
 //! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
 //! rate's control gain `γ` and damping `δ`.
 
-use rotorid::hover::{flight_sets, HoverSample, RateStructure, VelocityStructure};
+use rotorid::hover::{
+    flight_sets, unscheduled_sets, HoverSample, RateStructure, VelocityStructure,
+};
 use rotorid::rls::RlsState;
 use rotorid::{FlightIdentifier, HoverConfig};
 use serde::{Deserialize, Serialize};
@@ -67,11 +75,15 @@ const OPTIONAL: [&[usize]; 4] = [
 const AXES: [&[usize]; 4] = [&[0, 1, 2], &[3], &[4], &[5]];
 
 /// Which terms of each model are switched off: bit `i` of `off[m]` is term `i` of model
-/// `MODELS[m]`.
+/// `MODELS[m]`; and which models have one rule instead of three.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct TermMask {
     /// Per model, the bits of the terms that are off.
     pub off: [u8; 4],
+    /// Per model, whether its rules are off: one rule, not scheduled on the speed
+    /// ([`unscheduled_sets`]).
+    #[serde(default)]
+    pub one_rule: [bool; 4],
 }
 
 impl TermMask {
@@ -90,10 +102,27 @@ impl TermMask {
         self
     }
 
-    /// The names of the terms that are off, per model (`"r: 𝕀|v|"`, …).
+    /// This mask with model `model`'s rules off (one rule).
+    fn with_one_rule(mut self, model: usize) -> Self {
+        if let Some(one) = self.one_rule.get_mut(model) {
+            *one = true;
+        }
+        self
+    }
+
+    /// Whether model `model` has one rule.
+    pub fn has_one_rule(&self, model: usize) -> bool {
+        self.one_rule.get(model).copied().unwrap_or(false)
+    }
+
+    /// The names of the terms that are off, per model (`"r: 𝕀|v|"`, …), a model with one rule
+    /// first as `"p: rules"`.
     pub fn describe(&self) -> Vec<String> {
         let mut out = Vec::new();
         for (m, model) in MODELS.iter().enumerate() {
+            if self.has_one_rule(m) {
+                out.push(format!("{model}: rules"));
+            }
             let names: &[&str] = if m == 0 { &VELOCITY_TERMS } else { &RATE_TERMS };
             for (t, name) in names.iter().enumerate() {
                 if self.is_off(m, t) {
@@ -107,10 +136,15 @@ impl TermMask {
 
     /// The mask a flight identifier's exported parameters carry: a term is off when every
     /// rule's prior variance of it is exactly zero (learning never makes a positive variance
-    /// zero). Empty for parameters that are not the flight structure's.
+    /// zero); a model has one rule when its sets are [`unscheduled_sets`]. Empty for
+    /// parameters that are not the flight structure's.
     pub fn of_parameters(parameters: &[super::ModelParameters]) -> Self {
         let mut mask = Self::default();
+        let unscheduled = super::PremiseParameters::sets_of(&unscheduled_sets::<f32>());
         for (m, p) in parameters.iter().enumerate().take(4) {
+            if p.premise.as_ref().and_then(|q| q.variables.first()) == Some(&unscheduled) {
+                mask = mask.with_one_rule(m);
+            }
             let d = if m == 0 {
                 VELOCITY_TERMS.len()
             } else {
@@ -174,9 +208,16 @@ pub fn masked_flight(
     mask: TermMask,
     period_us: u32,
 ) -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    let sets = core::array::from_fn(|m| {
+        if mask.has_one_rule(m) {
+            unscheduled_sets()
+        } else {
+            flight_sets()
+        }
+    });
     let mut flight =
-        FlightIdentifier::<f32>::flight(at(HoverConfig::default(), period_us), flight_sets())?;
-    if mask == TermMask::default() {
+        FlightIdentifier::<f32>::flight_per_model(at(HoverConfig::default(), period_us), sets)?;
+    if mask.off == [0; 4] {
         return Ok(flight);
     }
     let mut snapshot = flight.export();
@@ -353,6 +394,14 @@ pub fn select_terms(
     selection.full = current.ratios;
     selection.candidates = 1;
     for (m, optional) in OPTIONAL.iter().enumerate() {
+        // The rules first, with every term (see the module docs); ties go to one rule.
+        let candidate = mask.with_one_rule(m);
+        let one_rule = score(candidate, &folds, period_us, window, gyro_noise)?;
+        selection.candidates += 1;
+        if one_rule.key(m).1.is_finite() && one_rule.key(m) <= current.key(m) {
+            mask = candidate;
+            current = one_rule;
+        }
         loop {
             let mut best: Option<(TermMask, Score)> = None;
             for &t in optional.iter().filter(|&&t| !mask.is_off(m, t)) {
@@ -391,8 +440,12 @@ mod tests {
         let mask = TermMask::default()
             .without(0, 7)
             .without(2, 0)
+            .with_one_rule(2)
             .without(3, 6);
-        assert_eq!(mask.describe(), ["velocity: α0", "r: 𝕀|v|", "p: η"]);
+        assert_eq!(
+            mask.describe(),
+            ["velocity: α0", "r: rules", "r: 𝕀|v|", "p: η"]
+        );
         let id = masked_flight(mask, 20_000).unwrap();
         let params = Identifier::parameters(&id);
         assert_eq!(TermMask::of_parameters(&params), mask);

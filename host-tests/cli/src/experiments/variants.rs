@@ -105,6 +105,14 @@ impl PremiseParameters {
             Premise::HorizontalSpeed => "horizontal-speed",
             _ => "unknown",
         };
+        Some(Self {
+            kind: kind.to_string(),
+            variables: variables.iter().map(|v| Self::sets_of(v)).collect(),
+        })
+    }
+
+    /// One premise variable's sets, as written.
+    pub fn sets_of(sets: &[MembershipFunction<f32>]) -> Vec<SetParameters> {
         let set = |mf: &MembershipFunction<f32>| {
             let (shape, (centre, spread)) = match mf {
                 MembershipFunction::LeftShoulder { .. } => ("left", mf.parameters()),
@@ -117,13 +125,7 @@ impl PremiseParameters {
                 spread,
             }
         };
-        Some(Self {
-            kind: kind.to_string(),
-            variables: variables
-                .iter()
-                .map(|v| v.iter().map(set).collect())
-                .collect(),
-        })
+        sets.iter().map(set).collect()
     }
 }
 
