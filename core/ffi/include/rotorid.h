@@ -1028,8 +1028,8 @@ int32_t rotorid_init_flight(void *storage,
  * `rotorid_init_flight` with speed sets of its own for each of the four models: `sets`
  * points to an array of four, in the order velocity, q̂, r̂, p̂
  * (`rotorid::FlightIdentifier::flight_per_model`). A model whose sets are
- * `rotorid_flight_sets_unscheduled` has one rule in effect: what `rotorid identify` writes
- * as `"one_rule"` in a selection (and as those sets in `params-*.json`). `sets` is required
+ * `rotorid_flight_sets_unscheduled` has one rule in effect: what `rotorid identify`'s
+ * `flight selected` names `p: rules` (those sets in its `params-*.json`). `sets` is required
  * (NULL: `ROTORID_E_NULL`); the other arguments, pointers and codes as `rotorid_init`.
  *
  * # Safety

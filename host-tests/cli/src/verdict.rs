@@ -494,7 +494,54 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{no_model, observer_caveat, NoModel, MIN_VERIFICATION_WINDOWS, STILL_STICK_STD};
+    use super::{
+        no_model, observer_caveat, rule_caveats, NoModel, MIN_VERIFICATION_WINDOWS, STILL_STICK_STD,
+    };
+    use rotorid_sim::plant::SensorSample;
+
+    /// `seconds` of flight at 10 Hz with the given north and east speeds (m/s), heading north.
+    fn flight(seconds: usize, speeds: impl Fn(f64) -> (f64, f64)) -> Vec<SensorSample> {
+        (0..seconds * 10)
+            .map(|k| {
+                let t = k as f64 / 10.0;
+                let (v_north, v_east) = speeds(t / seconds as f64);
+                SensorSample {
+                    t,
+                    v_north,
+                    v_east,
+                    ..SensorSample::default()
+                }
+            })
+            .collect()
+    }
+
+    /// The rules a log never reached are named once when the rate models' forward speed and
+    /// the velocity model's horizontal speed miss the same ones, per model when they differ.
+    #[test]
+    fn unreached_rules_are_named_per_premise_when_the_premises_differ() {
+        // Forward from hover to 12 m/s: every rule reached.
+        let sweep = flight(60, |x| (12.0 * x, 0.0));
+        assert!(rule_caveats(&[sweep], 10.0).is_empty());
+        // Hover: both premises miss 5 and 10 m/s, one line.
+        let hover = rule_caveats(&[flight(60, |_| (0.0, 0.0))], 10.0);
+        assert_eq!(hover.len(), 1, "{hover:?}");
+        assert!(
+            hover[0].contains("rules at 5 and 10 m/s (the rates' forward speed, the velocity's horizontal speed) were"),
+            "{hover:?}"
+        );
+        // Sideways at 5 m/s, heading north: the forward speed stays at 0 (5 and 10 missed),
+        // the horizontal speed at 5 (0 and 10 missed).
+        let sideways = rule_caveats(&[flight(60, |_| (0.0, 5.0))], 10.0);
+        assert_eq!(sideways.len(), 2, "{sideways:?}");
+        assert!(
+            sideways[0].contains("forward-speed rules at 5 and 10 m/s (its rate models)"),
+            "{sideways:?}"
+        );
+        assert!(
+            sideways[1].contains("horizontal-speed rules at 0 and 10 m/s (its velocity model)"),
+            "{sideways:?}"
+        );
+    }
 
     /// A model is to fly only when it beats hold, a stick moved at all and the held-out part
     /// holds at least two windows; each failure is named, the first in that order.

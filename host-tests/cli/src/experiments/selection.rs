@@ -26,7 +26,12 @@
 //!   score does not get worse. A rule learns only from the part of the flight near its speed,
 //!   so three rules hold three times the parameters on the same data: where the dynamics do
 //!   not change with the speed, or the flight did not visit the other speeds enough, they add
-//!   variance and no fit. Then the terms: the term whose removal gives the lowest score is
+//!   variance and no fit. Only where the scheduled model's score is below 1 (it beats holding
+//!   the measured state): the check blocks revisit the training's operating points, so they
+//!   cannot tell how the two forms extrapolate to others, and among models worse than hold
+//!   the comparison is mostly noise (the CHANGELOG has what a selection without this guard
+//!   did to yaw on plant variations). Then the terms: the term whose removal gives the
+//!   lowest score is
 //!   switched off if the score does not get worse, and the search goes on until every
 //!   removal makes it worse (ties go to the simpler model).
 //!
@@ -394,13 +399,19 @@ pub fn select_terms(
     selection.full = current.ratios;
     selection.candidates = 1;
     for (m, optional) in OPTIONAL.iter().enumerate() {
-        // The rules first, with every term (see the module docs); ties go to one rule.
-        let candidate = mask.with_one_rule(m);
-        let one_rule = score(candidate, &folds, period_us, window, gyro_noise)?;
-        selection.candidates += 1;
-        if one_rule.key(m).1.is_finite() && one_rule.key(m) <= current.key(m) {
-            mask = candidate;
-            current = one_rule;
+        // The rules first, with every term (see the module docs); ties go to one rule. Only
+        // where the scheduled model beats holding the measured state on the check blocks: a
+        // model worse than hold there is limited by something else (excitation, feedback,
+        // turbulence), and the check blocks, which revisit the training's operating points,
+        // cannot tell how the two forms extrapolate to others.
+        if current.key(m).1 < 1.0 {
+            let candidate = mask.with_one_rule(m);
+            let one_rule = score(candidate, &folds, period_us, window, gyro_noise)?;
+            selection.candidates += 1;
+            if one_rule.key(m).1.is_finite() && one_rule.key(m) <= current.key(m) {
+                mask = candidate;
+                current = one_rule;
+            }
         }
         loop {
             let mut best: Option<(TermMask, Score)> = None;
