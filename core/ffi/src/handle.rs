@@ -207,11 +207,7 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
     // built in place (written only once it is built: on an error the storage is untouched),
     // then its header.
     unsafe {
-        I::build_into(
-            config,
-            sets,
-            core::ptr::addr_of_mut!((*slot).ident),
-        )?;
+        I::build_into(config, sets, core::ptr::addr_of_mut!((*slot).ident))?;
         core::ptr::addr_of_mut!((*slot).header).write(Header {
             magic: MAGIC,
             kind,

@@ -193,10 +193,7 @@ impl Sets<'_> {
 /// How each kind is built from the C settings.
 pub(crate) trait Build: Sized {
     /// The core's constructor of the kind.
-    fn build(
-        config: HoverConfig<f32>,
-        sets: Sets<'_>,
-    ) -> Result<Self, rotorid::Error>;
+    fn build(config: HoverConfig<f32>, sets: Sets<'_>) -> Result<Self, rotorid::Error>;
 
     /// Builds straight into `out`: the identifier is never copied through the caller's
     /// frame (for the paper's fuzzy identifier that is 11 KiB of stack saved per copy).
@@ -240,10 +237,7 @@ build_without_sets! {
 }
 
 impl Build for FlightIdentifier<f32> {
-    fn build(
-        config: HoverConfig<f32>,
-        sets: Sets<'_>,
-    ) -> Result<Self, rotorid::Error> {
+    fn build(config: HoverConfig<f32>, sets: Sets<'_>) -> Result<Self, rotorid::Error> {
         // One constructor for the three forms (`flight` is `flight_per_model` with the same
         // sets four times): a firmware that never passes per-model sets links no more code.
         let sets = match sets {

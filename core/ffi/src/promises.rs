@@ -413,7 +413,10 @@ fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
     let (mut unscheduled, mut defaults) = (empty_sets(), empty_sets());
     // SAFETY: valid pointers.
     unsafe {
-        assert_eq!(rotorid_flight_sets_unscheduled(&mut unscheduled), ROTORID_OK);
+        assert_eq!(
+            rotorid_flight_sets_unscheduled(&mut unscheduled),
+            ROTORID_OK
+        );
         assert_eq!(rotorid_flight_sets_default(&mut defaults), ROTORID_OK);
     }
     for (sets, twin) in [
@@ -443,7 +446,10 @@ fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
             // SAFETY: valid pointers.
             unsafe {
                 assert_eq!(rotorid_step(h, &sample(k), &mut a, null_mut()), ROTORID_OK);
-                assert_eq!(rotorid_step(other.h(), &sample(k), &mut b, null_mut()), ROTORID_OK);
+                assert_eq!(
+                    rotorid_step(other.h(), &sample(k), &mut b, null_mut()),
+                    ROTORID_OK
+                );
             }
             let bits = |o: &rotorid_step_output_t| {
                 let p = o.prediction;

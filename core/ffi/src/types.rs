@@ -3,8 +3,8 @@
 //! paper's inertial axes (x east, y up, z south), body rates `[q r p]` in deg/s.
 
 use rotorid::hover::{
-    flight_sets, unscheduled_sets, AnyAttitude, Attitude, Controls, HoverSample, HoverState, Quaternion,
-    RegressorScaling, StepOutput,
+    flight_sets, unscheduled_sets, AnyAttitude, Attitude, Controls, HoverSample, HoverState,
+    Quaternion, RegressorScaling, StepOutput,
 };
 use rotorid::rls::{Algorithm, RlsConfig};
 use rotorid::HoverConfig;
