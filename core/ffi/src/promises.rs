@@ -410,7 +410,7 @@ fn configuration_errors_have_config_codes() {
 /// refused without writing the storage.
 #[test]
 fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
-    let (mut unscheduled, mut defaults) = (empty_sets(), empty_sets());
+    let (mut unscheduled, mut defaults) = Default::default();
     // SAFETY: valid pointers.
     unsafe {
         assert_eq!(
@@ -423,19 +423,7 @@ fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
         ([unscheduled; 4], ROTORID_KIND_FLIGHT_PLAIN),
         ([defaults; 4], ROTORID_KIND_FLIGHT),
     ] {
-        let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
-        let mut h = null_mut();
-        // SAFETY: valid pointers; four sets.
-        let rc = unsafe {
-            rotorid_init_flight_per_model(
-                storage.as_mut_ptr().cast(),
-                ROTORID_FLIGHT_STORAGE_SIZE,
-                null(),
-                sets.as_ptr(),
-                &mut h,
-                null_mut(),
-            )
-        };
+        let (rc, h, _, _storage) = init_per_model(sets.as_ptr());
         assert_eq!(rc, ROTORID_OK);
         let mut other = Prepared::new(twin);
         for k in 0..200 {
@@ -464,29 +452,31 @@ fn per_model_sets_init_the_flight_kind_as_its_models_ask() {
         (null(), ROTORID_E_NULL),
         (bad.as_ptr(), ROTORID_E_CONFIG_MEMBERSHIP),
     ] {
-        let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
-        let (mut h, mut err) = (null_mut(), rotorid_error_t::default());
-        // SAFETY: valid pointers; NULL or four sets.
-        let rc = unsafe {
-            rotorid_init_flight_per_model(
-                storage.as_mut_ptr().cast(),
-                ROTORID_FLIGHT_STORAGE_SIZE,
-                null(),
-                sets,
-                &mut h,
-                &mut err,
-            )
-        };
+        let (rc, h, err, storage) = init_per_model(sets);
         assert_eq!((rc, err.code), (code, code));
         assert!(h.is_null() && storage.iter().all(|&w| w == 0));
     }
 }
 
-fn empty_sets() -> rotorid_flight_sets_t {
-    rotorid_flight_sets_t {
-        centre: [0.0; 3],
-        spread: [0.0; 3],
-    }
+/// `rotorid_init_flight_per_model` with `sets` (NULL or four) in zeroed storage of its own:
+/// the code, the handle, the error and the storage (which the handle points into).
+fn init_per_model(
+    sets: *const rotorid_flight_sets_t,
+) -> (i32, *mut rotorid_ident_t, rotorid_error_t, Vec<u64>) {
+    let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
+    let (mut h, mut err) = (null_mut(), rotorid_error_t::default());
+    // SAFETY: aligned storage of the flight kind's size; valid pointers; NULL or four sets.
+    let rc = unsafe {
+        rotorid_init_flight_per_model(
+            storage.as_mut_ptr().cast(),
+            ROTORID_FLIGHT_STORAGE_SIZE,
+            null(),
+            sets,
+            &mut h,
+            &mut err,
+        )
+    };
+    (rc, h, err, storage)
 }
 
 /// The worked example of `docs/c-interface.md` ("The export format"): the export of a

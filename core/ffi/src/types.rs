@@ -234,7 +234,7 @@ impl TryFrom<&rotorid_config_t> for HoverConfig<f32> {
 /// centres 0, 5, 10 and spreads 2.5; a tool can place them from a training flight
 /// (`rotorid::premise::quantile_sets`).
 #[repr(C)]
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
 pub struct rotorid_flight_sets_t {
     /// Centres c of the left shoulder, the Gaussian and the right shoulder (m/s).
     pub centre: [f32; 3],
@@ -298,10 +298,7 @@ pub unsafe extern "C" fn rotorid_flight_sets_unscheduled(out: *mut rotorid_fligh
 
 /// Three sets (left shoulder, Gaussian, right shoulder) as the C interface holds them.
 fn c_sets(sets: &[rotorid::membership::MembershipFunction<f32>]) -> rotorid_flight_sets_t {
-    let mut out = rotorid_flight_sets_t {
-        centre: [0.0; 3],
-        spread: [0.0; 3],
-    };
+    let mut out = rotorid_flight_sets_t::default();
     for (i, mf) in sets.iter().enumerate() {
         if let (Some(c), Some(s)) = (out.centre.get_mut(i), out.spread.get_mut(i)) {
             (*c, *s) = mf.parameters();

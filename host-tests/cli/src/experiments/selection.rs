@@ -31,9 +31,8 @@
 //!   cannot tell how the two forms extrapolate to others, and among models worse than hold
 //!   the comparison is mostly noise (the CHANGELOG has what a selection without this guard
 //!   did to yaw on plant variations). Then the terms: the term whose removal gives the
-//!   lowest score is
-//!   switched off if the score does not get worse, and the search goes on until every
-//!   removal makes it worse (ties go to the simpler model).
+//!   lowest score is switched off if the score does not get worse, and the search goes on
+//!   until every removal makes it worse (ties go to the simpler model).
 //!
 //! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
 //! rate's control gain `γ` and damping `δ`.
