@@ -197,6 +197,19 @@ equivalent is below.
 
 ${footprint}
 
+The C library ships at opt-level "s" (flash first), and a C autopilot's step costs what the
+counted rows above say, more than twice the Rust firmware's at opt-level 3 (the tables at the top).
+At "s" LLVM does not unroll the U-D update's loops and passes the estimators' arrays through
+\`memcpy\`. The prediction sums its terms as it scales them, with no array in between (the
+same bits, and the same instructions at opt-level 3): \`scripts/footprint.sh\` at 3e25347, the
+commit before, counted 28 160 / 31 160 instructions (mean/worst) and 23 214 B on the same
+stream. Reading each column of U as one slice in the U-D update (no index check per entry)
+saved about 2 000 more per step at "s" but cost about 120 at opt-level 3, which took the Euler
+step built alone over issue 11's 15 000 on average: not kept. What is left is the price of "s": a
+firmware short of cycles rather than flash builds the library at opt-level 2
+(\`CARGO_PROFILE_RELEASE_OPT_LEVEL=2 cargo build --manifest-path core/ffi/Cargo.toml --release
+--target thumbv7em-none-eabihf\`), the second row, with the same bits.
+
 ## Flash and RAM (\`arm-none-eabi-size\`)
 
 \`\`\`

@@ -5,7 +5,8 @@
 # generic calls (rotorid_init_<kind> + rotorid_step) and with the lean calls
 # (rotorid_lean_init_<kind> + rotorid_lean_step_<kind>), each run under QEMU mps2-an386 (it
 # must exit 0: every step accepted); the flight kind's flash by part for both; and the Rust
-# equivalent (firmware-example's `minimal` binary) at three opt-levels. `scripts/cost.sh`
+# equivalent (firmware-example's `minimal` binary) at three opt-levels; and the lean flight
+# step's instructions, counted by the same main.c built with -DROTORID_MINIMAL_COUNT. `scripts/cost.sh`
 # embeds it in docs/cost.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,6 +37,40 @@ for k in $kinds; do
   read -r generic _ < <(firmware "generic-$k" "rotorid_init_$k" rotorid_step "$storage")
   read -r lean bss < <(firmware "lean-$k" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage")
   echo "| \`$k\` | $generic | $lean | $((generic - lean)) | $bss | yes |"
+done
+echo
+# The lean flight firmware again with ROTORID_MINIMAL_COUNT: SysTick around each step under
+# -icount shift=0 (1 tick = 40 instructions), steps 100..200 of main.c's stream; with the
+# library at its release profile (opt-level "s") and rebuilt at opt-level 2 (own target dir).
+echo "The lean flight step as a C autopilot gets it, counted by \`main.c\` built with \`-DROTORID_MINIMAL_COUNT\` (SysTick around each step under \`-icount shift=0\`, 1 tick = 40 instructions; steps 100..200 of its stream, forward and sideways speed a 0–10 m/s triangle, so that every speed rule fires), with the library at its release profile (opt-level \"s\", what \`core/ffi\`'s Cargo.toml ships) and rebuilt at opt-level 2 (\`CARGO_PROFILE_RELEASE_OPT_LEVEL=2\`; this script fails unless both compute the same bits):"
+echo
+echo "| library opt-level | flash (text, B) | steps | mean instructions/step | worst instructions/step | predictions (FNV-1a of the bits) |"
+echo "|---|---:|---:|---:|---:|---|"
+for level in s 2; do
+  levellib=$lib
+  if [ "$level" != s ]; then
+    CARGO_PROFILE_RELEASE_OPT_LEVEL=$level CARGO_TARGET_DIR="$out/ffi-$level" cargo build -q \
+      --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
+    levellib="$out/ffi-$level/thumbv7em-none-eabihf/release/librotorid_ffi.a"
+  fi
+  for count in "" -DROTORID_MINIMAL_COUNT; do
+    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
+      -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib $count \
+      -I core/ffi/include core/ffi/c/minimal/main.c "$levellib" -lgcc -Wl,--gc-sections \
+      -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/count$count.elf"
+  done
+  read -r text _ < <(arm-none-eabi-size "$out/count.elf" | tail -1)
+  counted=$(timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none \
+    -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=0 \
+    -kernel "$out/count-DROTORID_MINIMAL_COUNT.elf" 2>&1) ||
+    { echo "the counting firmware failed: $counted" >&2; exit 1; }
+  read -r steps ticks worst fnv < <(sed -n 's/^rotorid-minimal: steps \([0-9]*\) ticks \([0-9]*\) max \([0-9]*\) fnv \([0-9]*\)$/\1 \2 \3 \4/p' <<<"$counted")
+  [ -n "${fnv:-}" ] || { echo "no count from the counting firmware: $counted" >&2; exit 1; }
+  # Every level must compute the same bits (the FNV-1a of every step's prediction and innovation).
+  [ -z "${first_fnv:-}" ] || [ "$fnv" = "$first_fnv" ] ||
+    { echo "opt-level $level changed the predictions' bits ($fnv, not $first_fnv)" >&2; exit 1; }
+  first_fnv=$fnv
+  echo "| $level | $text | $steps | $((ticks * 40 / steps)) | $((worst * 40)) | $(printf '%08x' "$fnv") |"
 done
 echo
 echo "Flash of the flight kind's minimal C firmware by part (\`arm-none-eabi-nm -S\`, text and read-only data):"

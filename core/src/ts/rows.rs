@@ -37,6 +37,37 @@ pub(crate) fn scaled_terms<T: Real, const R: usize, const D: usize>(
     Ok(scaled)
 }
 
+/// `Σ_s Δ̃_s b_s` with each `Δ̃_s` checked as [`scaled_terms`] does: [`combine`] of the
+/// scaled terms, summed as they are scaled (the same operations in the same order, so the
+/// same bits), with no array in between. For the prediction: at opt-level "s" (the C
+/// library's) an array returned inside a `Result` is copied twice through `memcpy`.
+#[inline(always)]
+fn scaled_combine<T: Real, const R: usize, const D: usize>(
+    scaling: &Scaling<T, D>,
+    terms: &[T; D],
+    b: &[T; D],
+) -> Result<T, Error> {
+    let limit = T::lit(REGRESSOR_LIMIT);
+    let mut sum = T::zero();
+    for (s, ((&t, &scale), &bs)) in terms
+        .iter()
+        .zip(scaling.terms.iter())
+        .zip(b.iter())
+        .enumerate()
+    {
+        let at = Quantity::Regressor((s * R) as u16);
+        if !t.is_finite() {
+            return Err(Error::NonFinite(at));
+        }
+        let d = t / scale;
+        if !within(d, limit) {
+            return Err(Error::OutOfRange(at));
+        }
+        sum += d * bs;
+    }
+    Ok(sum)
+}
+
 /// The checks and rows of an update of M outputs (see [`TsRls::prepare`]), given the firing
 /// strengths and the rule-weighted parameters `b` of the current θ (see `block_products`).
 /// Shared by the global and the local estimator: both predict `Σ_s Δ̃_s b_s`.
@@ -344,7 +375,7 @@ pub(crate) fn predict_from_blocks<T: Real, const R: usize, const D: usize, const
 ) -> Result<[T; M], Error> {
     let mut out = [T::zero(); M];
     for (o, t) in out.iter_mut().zip(terms.iter()) {
-        *o = combine(&scaled_terms::<T, R, D>(scaling, t)?, b) * scaling.target;
+        *o = scaled_combine::<T, R, D>(scaling, t, b)? * scaling.target;
     }
     Ok(out)
 }
