@@ -193,7 +193,11 @@ C interface) and the constructor (inlined into \`Build::build_into\`), and the l
 update, preparation and prediction, each instantiated twice (for the translational model's
 dimensions and for the rate models'); then the memory routines (\`compiler_builtins\`'
 \`memcpy\`/\`memset\`, which a firmware with a C library of its own may share). The Rust
-equivalent is below.
+equivalent is below. The last column of the first table is each kind's lean step as the
+library ships (opt-level "s"), counted by the same \`main.c\` built with
+\`-DROTORID_MINIMAL_COUNT\` (the second table says how) on its stream, which fires every speed
+rule of the flight kinds; the Table 3 kinds' rules (on the rates, the vertical speed) fire as
+far as that stream reaches them, so theirs are not worst cases (the tables at the top are).
 
 ${footprint}
 

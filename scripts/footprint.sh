@@ -16,13 +16,14 @@ trap 'rm -rf "$out"' EXIT
 cargo build -q --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
 lib=core/ffi/target/thumbv7em-none-eabihf/release/librotorid_ffi.a
 kinds="flight flight_plain paper_fuzzy paper_plain extended_fuzzy extended_plain paper_local extended_local"
-# firmware NAME INIT STEP STORAGE: builds $out/NAME.elf, prints "text bss", fails unless it runs.
+# firmware NAME INIT STEP STORAGE [LIB]: builds $out/NAME.elf against LIB (default: the release
+# library), prints "text bss", fails unless it runs.
 firmware() {
   arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
     -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
     -DROTORID_MINIMAL_INIT="$2" -DROTORID_MINIMAL_STEP="$3" -DROTORID_MINIMAL_STORAGE="$4" \
-    -I core/ffi/include core/ffi/c/minimal/main.c "$lib" -lgcc -Wl,--gc-sections -z noexecstack \
-    -L . -T core/ffi/c/firmware/link.ld -o "$out/$1.elf"
+    -I core/ffi/include core/ffi/c/minimal/main.c "${5:-$lib}" -lgcc -Wl,--gc-sections \
+    -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/$1.elf"
   if ! timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
     -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf"; then
     echo "the minimal firmware $1 ($2 + $3) failed under QEMU" >&2
@@ -30,13 +31,32 @@ firmware() {
   fi
   arm-none-eabi-size "$out/$1.elf" | tail -1 | awk '{print $1, $3}'
 }
-echo "| kind | generic calls: flash (text, B) | lean calls: flash (text, B) | saved (B) | RAM (bss, B) | runs |"
-echo "|---|---:|---:|---:|---:|:-:|"
+# count LIB INIT STEP STORAGE NAME: main.c built with -DROTORID_MINIMAL_COUNT against LIB (SysTick
+# around each step under -icount shift=0, 1 tick = 40 instructions; steps 100..200 of its
+# stream); prints "mean worst fnv" (instructions per step; FNV-1a of every step's prediction and
+# innovation bits).
+count() {
+  arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
+    -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
+    -DROTORID_MINIMAL_COUNT -DROTORID_MINIMAL_INIT="$2" -DROTORID_MINIMAL_STEP="$3" \
+    -DROTORID_MINIMAL_STORAGE="$4" -I core/ffi/include core/ffi/c/minimal/main.c "$1" -lgcc \
+    -Wl,--gc-sections -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/$5.elf"
+  local counted steps ticks worst fnv
+  counted=$(timeout 300 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none \
+    -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=0 \
+    -kernel "$out/$5.elf" 2>&1) || { echo "the counting firmware $5 failed: $counted" >&2; exit 1; }
+  read -r steps ticks worst fnv < <(sed -n 's/^rotorid-minimal: steps \([0-9]*\) ticks \([0-9]*\) max \([0-9]*\) fnv \([0-9]*\)$/\1 \2 \3 \4/p' <<<"$counted")
+  [ -n "${fnv:-}" ] || { echo "no count from the counting firmware $5: $counted" >&2; exit 1; }
+  echo "$((ticks * 40 / steps)) $((worst * 40)) $fnv"
+}
+echo "| kind | generic calls: flash (text, B) | lean calls: flash (text, B) | saved (B) | RAM (bss, B) | runs | lean step: mean / worst instructions |"
+echo "|---|---:|---:|---:|---:|:-:|---:|"
 for k in $kinds; do
   storage="ROTORID_$(tr '[:lower:]' '[:upper:]' <<<"$k")_STORAGE_SIZE"
   read -r generic _ < <(firmware "generic-$k" "rotorid_init_$k" rotorid_step "$storage")
   read -r lean bss < <(firmware "lean-$k" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage")
-  echo "| \`$k\` | $generic | $lean | $((generic - lean)) | $bss | yes |"
+  read -r mean worst _ < <(count "$lib" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage" "count-$k")
+  echo "| \`$k\` | $generic | $lean | $((generic - lean)) | $bss | yes | $mean / $worst |"
 done
 echo
 # The lean flight firmware again with ROTORID_MINIMAL_COUNT: SysTick around each step under
@@ -53,24 +73,15 @@ for level in s 2; do
       --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
     levellib="$out/ffi-$level/thumbv7em-none-eabihf/release/librotorid_ffi.a"
   fi
-  for count in "" -DROTORID_MINIMAL_COUNT; do
-    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
-      -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib $count \
-      -I core/ffi/include core/ffi/c/minimal/main.c "$levellib" -lgcc -Wl,--gc-sections \
-      -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/count$count.elf"
-  done
-  read -r text _ < <(arm-none-eabi-size "$out/count.elf" | tail -1)
-  counted=$(timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none \
-    -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=0 \
-    -kernel "$out/count-DROTORID_MINIMAL_COUNT.elf" 2>&1) ||
-    { echo "the counting firmware failed: $counted" >&2; exit 1; }
-  read -r steps ticks worst fnv < <(sed -n 's/^rotorid-minimal: steps \([0-9]*\) ticks \([0-9]*\) max \([0-9]*\) fnv \([0-9]*\)$/\1 \2 \3 \4/p' <<<"$counted")
-  [ -n "${fnv:-}" ] || { echo "no count from the counting firmware: $counted" >&2; exit 1; }
-  # Every level must compute the same bits (the FNV-1a of every step's prediction and innovation).
+  read -r text _ < <(firmware "lean-flight-$level" rotorid_lean_init_flight \
+    rotorid_lean_step_flight ROTORID_FLIGHT_STORAGE_SIZE "$levellib")
+  read -r mean worst fnv < <(count "$levellib" rotorid_lean_init_flight rotorid_lean_step_flight \
+    ROTORID_FLIGHT_STORAGE_SIZE "count-flight-$level")
+  # Every level must compute the same bits.
   [ -z "${first_fnv:-}" ] || [ "$fnv" = "$first_fnv" ] ||
     { echo "opt-level $level changed the predictions' bits ($fnv, not $first_fnv)" >&2; exit 1; }
   first_fnv=$fnv
-  echo "| $level | $text | $steps | $((ticks * 40 / steps)) | $((worst * 40)) | $(printf '%08x' "$fnv") |"
+  echo "| $level | $text | 100 | $mean | $worst | $(printf '%08x' "$fnv") |"
 done
 echo
 echo "Flash of the flight kind's minimal C firmware by part (\`arm-none-eabi-nm -S\`, text and read-only data):"
