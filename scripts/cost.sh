@@ -209,7 +209,10 @@ same bits, and the same instructions at opt-level 3): \`scripts/footprint.sh\` a
 commit before, counted 28 160 / 31 160 instructions (mean/worst) and 23 214 B on the same
 stream. Reading each column of U as one slice in the U-D update (no index check per entry)
 saved about 2 000 more per step at "s" but cost about 120 at opt-level 3, which took the Euler
-step built alone over issue 11's 15 000 on average: not kept. What is left is the price of "s": a
+step built alone over issue 11's 15 000 on average: not kept. Writing the update's scaled
+terms into its rows in place (no \`Result\` around them) saved about 1 200 more at "s", but at
+opt-level 3 it let LLVM copy the prepared update of the Table 3 local kinds through \`memcpy\`
+(their worst step about 800 more): not kept either. What is left is the price of "s": a
 firmware short of cycles rather than flash builds the library at opt-level 2
 (\`CARGO_PROFILE_RELEASE_OPT_LEVEL=2 cargo build --manifest-path core/ffi/Cargo.toml --release
 --target thumbv7em-none-eabihf\`), the second row, with the same bits.
