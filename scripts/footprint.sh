@@ -5,9 +5,10 @@
 # generic calls (rotorid_init_<kind> + rotorid_step) and with the lean calls
 # (rotorid_lean_init_<kind> + rotorid_lean_step_<kind>), each run under QEMU mps2-an386 (it
 # must exit 0: every step accepted); the flight kind's flash by part for both; and the Rust
-# equivalent (firmware-example's `minimal` binary) at three opt-levels; and the lean flight
-# step's instructions, counted by the same main.c built with -DROTORID_MINIMAL_COUNT. `scripts/cost.sh`
-# embeds it in docs/cost.md.
+# equivalent (firmware-example's `minimal` binary) at three opt-levels; and each kind's lean
+# step's instructions, counted by the same main.c built with -DROTORID_MINIMAL_COUNT (the
+# flight kind's also with the library at opt-level 2). `scripts/cost.sh` embeds it in
+# docs/cost.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
@@ -16,47 +17,51 @@ trap 'rm -rf "$out"' EXIT
 cargo build -q --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
 lib=core/ffi/target/thumbv7em-none-eabihf/release/librotorid_ffi.a
 kinds="flight flight_plain paper_fuzzy paper_plain extended_fuzzy extended_plain paper_local extended_local"
-# firmware NAME INIT STEP STORAGE [LIB]: builds $out/NAME.elf against LIB (default: the release
-# library), prints "text bss", fails unless it runs.
-firmware() {
+# compile NAME LIB INIT STEP STORAGE [FLAG]: main.c against LIB into $out/NAME.elf, as an
+# autopilot builds it (FLAG: -DROTORID_MINIMAL_COUNT for the counting firmware).
+compile() {
   arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
-    -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
-    -DROTORID_MINIMAL_INIT="$2" -DROTORID_MINIMAL_STEP="$3" -DROTORID_MINIMAL_STORAGE="$4" \
-    -I core/ffi/include core/ffi/c/minimal/main.c "${5:-$lib}" -lgcc -Wl,--gc-sections \
+    -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib ${6:-} \
+    -DROTORID_MINIMAL_INIT="$3" -DROTORID_MINIMAL_STEP="$4" -DROTORID_MINIMAL_STORAGE="$5" \
+    -I core/ffi/include core/ffi/c/minimal/main.c "$2" -lgcc -Wl,--gc-sections \
     -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/$1.elf"
-  if ! timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
-    -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf"; then
-    echo "the minimal firmware $1 ($2 + $3) failed under QEMU" >&2
+}
+qemu() {
+  timeout 300 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
+    -serial none -semihosting-config enable=on,target=native "$@"
+}
+# firmware NAME LIB INIT STEP STORAGE: prints "text bss", fails unless it runs.
+firmware() {
+  compile "$@"
+  if ! qemu -kernel "$out/$1.elf"; then
+    echo "the minimal firmware $1 ($3 + $4) failed under QEMU" >&2
     exit 1
   fi
   arm-none-eabi-size "$out/$1.elf" | tail -1 | awk '{print $1, $3}'
 }
-# count LIB INIT STEP STORAGE NAME: main.c built with -DROTORID_MINIMAL_COUNT against LIB (SysTick
-# around each step under -icount shift=0, 1 tick = 40 instructions; steps 100..200 of its
-# stream); prints "mean worst fnv" (instructions per step; FNV-1a of every step's prediction and
-# innovation bits).
+# count NAME LIB INIT STEP STORAGE: the counting firmware (SysTick around each step under
+# -icount shift=0, 1 tick = 40 instructions; steps 100..200 of main.c's stream); prints "mean
+# worst fnv" (instructions per step; FNV-1a of every step's prediction and innovation bits).
 count() {
-  arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -std=c11 -Os \
-    -ffp-contract=off -ffunction-sections -fdata-sections -nostartfiles -nostdlib \
-    -DROTORID_MINIMAL_COUNT -DROTORID_MINIMAL_INIT="$2" -DROTORID_MINIMAL_STEP="$3" \
-    -DROTORID_MINIMAL_STORAGE="$4" -I core/ffi/include core/ffi/c/minimal/main.c "$1" -lgcc \
-    -Wl,--gc-sections -z noexecstack -L . -T core/ffi/c/firmware/link.ld -o "$out/$5.elf"
+  compile "$@" -DROTORID_MINIMAL_COUNT
   local counted steps ticks worst fnv
-  counted=$(timeout 300 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none \
-    -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=0 \
-    -kernel "$out/$5.elf" 2>&1) || { echo "the counting firmware $5 failed: $counted" >&2; exit 1; }
+  counted=$(qemu -icount shift=0 -kernel "$out/$1.elf" 2>&1) ||
+    { echo "the counting firmware $1 failed: $counted" >&2; exit 1; }
   read -r steps ticks worst fnv < <(sed -n 's/^rotorid-minimal: steps \([0-9]*\) ticks \([0-9]*\) max \([0-9]*\) fnv \([0-9]*\)$/\1 \2 \3 \4/p' <<<"$counted")
-  [ -n "${fnv:-}" ] || { echo "no count from the counting firmware $5: $counted" >&2; exit 1; }
+  [ -n "${fnv:-}" ] || { echo "no count from the counting firmware $1: $counted" >&2; exit 1; }
   echo "$((ticks * 40 / steps)) $((worst * 40)) $fnv"
 }
 echo "| kind | generic calls: flash (text, B) | lean calls: flash (text, B) | saved (B) | RAM (bss, B) | runs | lean step: mean / worst instructions |"
 echo "|---|---:|---:|---:|---:|:-:|---:|"
 for k in $kinds; do
   storage="ROTORID_$(tr '[:lower:]' '[:upper:]' <<<"$k")_STORAGE_SIZE"
-  read -r generic _ < <(firmware "generic-$k" "rotorid_init_$k" rotorid_step "$storage")
-  read -r lean bss < <(firmware "lean-$k" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage")
-  read -r mean worst _ < <(count "$lib" "rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage" "count-$k")
+  read -r generic _ < <(firmware "generic-$k" "$lib" "rotorid_init_$k" rotorid_step "$storage")
+  lean_calls=("rotorid_lean_init_$k" "rotorid_lean_step_$k" "$storage")
+  read -r lean bss < <(firmware "lean-$k" "$lib" "${lean_calls[@]}")
+  read -r mean worst fnv < <(count "count-$k" "$lib" "${lean_calls[@]}")
   echo "| \`$k\` | $generic | $lean | $((generic - lean)) | $bss | yes | $mean / $worst |"
+  # The flight kind's row at the shipped level is the first of the opt-level table below.
+  [ "$k" != flight ] || flight_s="$lean $mean $worst $fnv"
 done
 echo
 # The lean flight firmware again with ROTORID_MINIMAL_COUNT: SysTick around each step under
@@ -67,16 +72,16 @@ echo
 echo "| library opt-level | flash (text, B) | steps | mean instructions/step | worst instructions/step | predictions (FNV-1a of the bits) |"
 echo "|---|---:|---:|---:|---:|---|"
 for level in s 2; do
-  levellib=$lib
-  if [ "$level" != s ]; then
+  if [ "$level" = s ]; then
+    read -r text mean worst fnv <<<"$flight_s"
+  else
     CARGO_PROFILE_RELEASE_OPT_LEVEL=$level CARGO_TARGET_DIR="$out/ffi-$level" cargo build -q \
       --manifest-path core/ffi/Cargo.toml --release --target thumbv7em-none-eabihf
     levellib="$out/ffi-$level/thumbv7em-none-eabihf/release/librotorid_ffi.a"
+    flight=(rotorid_lean_init_flight rotorid_lean_step_flight ROTORID_FLIGHT_STORAGE_SIZE)
+    read -r text _ < <(firmware "lean-flight-$level" "$levellib" "${flight[@]}")
+    read -r mean worst fnv < <(count "count-flight-$level" "$levellib" "${flight[@]}")
   fi
-  read -r text _ < <(firmware "lean-flight-$level" rotorid_lean_init_flight \
-    rotorid_lean_step_flight ROTORID_FLIGHT_STORAGE_SIZE "$levellib")
-  read -r mean worst fnv < <(count "$levellib" rotorid_lean_init_flight rotorid_lean_step_flight \
-    ROTORID_FLIGHT_STORAGE_SIZE "count-flight-$level")
   # Every level must compute the same bits.
   [ -z "${first_fnv:-}" ] || [ "$fnv" = "$first_fnv" ] ||
     { echo "opt-level $level changed the predictions' bits ($fnv, not $first_fnv)" >&2; exit 1; }
@@ -136,7 +141,6 @@ for level in 3 s z; do
   elf="$dir/thumbv7em-none-eabihf/release/minimal"
   read -r text _ < <(arm-none-eabi-size "$elf" | tail -1)
   runs=no
-  if timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none \
-    -serial none -semihosting-config enable=on,target=native -kernel "$elf"; then runs=yes; fi
+  if qemu -kernel "$elf"; then runs=yes; fi
   echo "| $level | $text | $runs |"
 done
