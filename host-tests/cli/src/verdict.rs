@@ -11,7 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::experiments::{TermMask, VariantResult};
+use crate::experiments::{FreeRunVelocity, TermMask, VariantResult};
 use rotorid_sim::plant::SensorSample;
 
 /// The candidates, in order of preference when their scores tie.
@@ -40,6 +40,16 @@ pub const AXES: [(&str, &str); 6] = [
 
 /// The order the verdict lists the axes in: north, east, down, roll, pitch, yaw.
 pub const DISPLAY_ORDER: [usize; 6] = [2, 0, 1, 5, 3, 4];
+
+/// The axes a free run scores, in [`DISPLAY_ORDER`]: every axis when the models run on their
+/// own velocity, the rates only when they are fed the measured one (the velocities' free-run
+/// errors are then zero by construction, not a prediction).
+pub fn scored_axes(velocity: FreeRunVelocity) -> &'static [usize] {
+    match velocity {
+        FreeRunVelocity::Model => &DISPLAY_ORDER,
+        FreeRunVelocity::Measured => &[5, 3, 4],
+    }
+}
 
 /// Stick standard deviation (normalised units) below which a stick counts as hardly moved:
 /// its control power is not determined (a caveat).
@@ -119,14 +129,14 @@ pub struct Verdict {
     pub terms_checked: bool,
 }
 
-/// Geometric mean of free run / hold over the six axes; `None` if any is not finite or the
-/// model left the sample limits in any window.
-fn score(v: &VariantResult) -> Option<f64> {
-    if v.free_run_diverged > 0 {
+/// Geometric mean of free run / hold over the `scored` axes; `None` if any is not finite or
+/// the model left the sample limits in any window.
+fn score(v: &VariantResult, scored: &[usize]) -> Option<f64> {
+    if v.free_run_diverged > 0 || scored.is_empty() {
         return None;
     }
     let mut log_sum = 0.0;
-    for i in 0..6 {
+    for &i in scored {
         // A state that never moved (held exactly) is predicted exactly by any model that
         // keeps it: even.
         let r = if v.free_run[i] == 0.0 && v.hold_free_run[i] == 0.0 {
@@ -139,21 +149,25 @@ fn score(v: &VariantResult) -> Option<f64> {
         }
         log_sum += r.ln();
     }
-    Some((log_sum / 6.0).exp())
+    Some((log_sum / scored.len() as f64).exp())
 }
 
-/// The verdict on `results` (every variant evaluated), with caveats from the training data
-/// and from the import (`warnings`, printed already, counted here).
+/// The verdict on `results` (every variant evaluated, their free runs fed `velocity`), with
+/// caveats from the training data and from the import (`warnings`, printed already, counted
+/// here).
 pub fn verdict(
     results: &[VariantResult],
     training: &[Vec<SensorSample>],
     rate_hz: f64,
+    velocity: FreeRunVelocity,
 ) -> Option<Verdict> {
     let find = |name: &str| results.iter().find(|v| v.name == name);
     let baseline = find(BASELINE)?;
+    let scored = scored_axes(velocity);
+    let n_axes = scored.len();
     let scores: Vec<(String, f64)> = CANDIDATES
         .iter()
-        .filter_map(|n| Some((n.to_string(), score(find(n)?)?)))
+        .filter_map(|n| Some((n.to_string(), score(find(n)?, scored)?)))
         .collect();
     let (model, best) = scores
         .iter()
@@ -162,7 +176,7 @@ pub fn verdict(
             _ => Some((n.as_str(), *s)),
         })?;
     let chosen = find(model)?;
-    let axes: Vec<AxisVerdict> = DISPLAY_ORDER
+    let axes: Vec<AxisVerdict> = scored
         .iter()
         .map(|&i| AxisVerdict {
             axis: AXES[i].0.to_string(),
@@ -181,7 +195,7 @@ pub fn verdict(
     let fly = why_not.is_none();
     let why = match why_not {
         Some(NoModel::NoneBeatsHold) => format!(
-            "no model beats holding the measured state overall (the best, {model}, is {best:.2} of hold, geometric mean over the axes): this log does not identify a model to fly; it beats hold on {beats_hold} of 6 axes"
+            "no model beats holding the measured state overall (the best, {model}, is {best:.2} of hold, geometric mean over the axes): this log does not identify a model to fly; it beats hold on {beats_hold} of {n_axes} axes"
         ),
         Some(NoModel::NoStickMoved) => format!(
             "no stick moved in the training data (every σ below {} % of travel): the log shows drift, not the response to the controls, so it identifies no model to fly (the closest, {model}, is {best:.2} of hold)",
@@ -191,10 +205,15 @@ pub fn verdict(
             "the held-out part holds {windows} free-run window(s), fewer than {MIN_VERIFICATION_WINDOWS}: one window is a single draw of the error, too little to tell a model from holding the state (the closest, {model}, is {best:.2} of hold); fly longer or give --verify"
         ),
         None => format!(
-            "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of 6 axes and the linear baseline on {beats_baseline} of 6"
+            "the lowest free-run error relative to holding the measured state ({best:.2} of hold, geometric mean over the axes); it beats hold on {beats_hold} of {n_axes} axes and the linear baseline on {beats_baseline} of {n_axes}"
         ),
     };
     let mut caveats = Vec::new();
+    if velocity == FreeRunVelocity::Measured {
+        caveats.push(
+            "the free runs were fed the measured velocity (--free-run-velocity measured): only the rates are scored, and a model flown on its own velocity may do worse".to_string(),
+        );
+    }
     for a in &axes {
         if a.vs_hold >= 1.0 {
             caveats.push(format!(
@@ -205,7 +224,7 @@ pub fn verdict(
     }
     if model != CANDIDATES[0] {
         if let Some(default) = find(CANDIDATES[0]) {
-            let worse: Vec<String> = DISPLAY_ORDER
+            let worse: Vec<String> = scored
                 .iter()
                 .filter(|&&i| default.free_run[i] >= default.hold_free_run[i])
                 .map(|&i| {

@@ -444,6 +444,23 @@ fn end_to_end_on_a_short_flight() {
         by_name(&m_measured, "flight")["free_run"][4],
         flight["free_run"][4]
     );
+    // Its verdict scores the three rates, not the velocities' zero errors (which once left
+    // no verdict at all), and says so.
+    let v = &m_measured["verdict"];
+    let axes: Vec<&str> = v["axes"]
+        .as_array()
+        .expect("a verdict")
+        .iter()
+        .filter_map(|a| a["axis"].as_str())
+        .collect();
+    assert_eq!(axes, ["roll rate p", "pitch rate q", "yaw rate r"], "{v}");
+    assert!(
+        v["caveats"].as_array().unwrap()[0]
+            .as_str()
+            .unwrap()
+            .contains("only the rates are scored"),
+        "{v}"
+    );
     for bad in ["1,2", "-0.3", "NaN", "loud"] {
         let o = run(bin()
             .args(["identify", &format!("--gyro-noise={bad}"), "--train"])
