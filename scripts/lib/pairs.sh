@@ -1,7 +1,8 @@
 # Sourced by scripts/seeds.sh and scripts/short-logs.sh: the hover and envelope pairs of a
 # plant and seed pair, flown by `rotorid simulate` and scored by `rotorid identify`.
 # Needs `bin` (the `rotorid` binary). TRAIN_S, when set, keeps only the first TRAIN_S seconds
-# of both training flights (short-logs.sh).
+# of both training flights (short-logs.sh). IDENTIFY, when set, is the identifying command in
+# place of `$bin identify` (term-evidence.sh: `rotorid-lab identify-terms`).
 
 # fly_pair PLANT VARIATION|"" K DIR: the four flights of seed pair K (training seed K,
 # verification seed 100 + K) and the two identifications, in DIR (kept when DIR already has
@@ -26,8 +27,10 @@ fly_pair() {
       "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope --seed "$k" -o envelope.csv
     fi
     "$bin" simulate --plant "$plant" "${pv[@]}" --kind envelope-verification --seed "$v" -o envelope-verify.csv
-    "$bin" identify --train ident.csv --verify verify.csv --out hover --no-plots
-    "$bin" identify --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
+    local identify=("$bin" identify)
+    [ -z "${IDENTIFY:-}" ] || read -r -a identify <<<"$IDENTIFY"
+    "${identify[@]}" --train ident.csv --verify verify.csv --out hover --no-plots
+    "${identify[@]}" --train envelope.csv --verify envelope-verify.csv --out envelope --no-plots
   ) >"$dir.log" 2>&1 || echo "$plant ${variation:+variation $variation }pair $k: failed (see its log)" >&2
 }
 

@@ -9,13 +9,30 @@ use rotorid::hover::{
 };
 use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{FlightIdentifier, HoverConfig};
-use rotorid_cli::experiments::{at, pin_to_zero, Variant};
+use rotorid_cli::experiments::{at, masked_flight, pin_to_zero, select_terms_with, Variant};
 
 /// The product's catalogue ([`rotorid_cli::experiments::variants`]) followed by the
 /// ablations, in the order every study's tables and metrics keep.
 pub fn full_catalogue() -> Vec<Variant> {
     let mut all = rotorid_cli::experiments::variants();
     all.extend(ablations());
+    all
+}
+
+/// The product's catalogue followed by `flight selected 2 SE`: the term selection asking a
+/// removal to beat the check blocks' noise by two standard errors
+/// ([`select_terms_with`]); `rotorid-lab identify-terms`, docs/term-evidence.md.
+pub fn term_evidence_catalogue() -> Vec<Variant> {
+    let mut all = rotorid_cli::experiments::variants();
+    all.push(Variant {
+        name: "flight selected 2 SE",
+        description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than two standard errors of the paired block differences",
+        kind: None,
+        build: |training, period| {
+            let selection = select_terms_with(training, period, Some(2.0))?;
+            Ok(Box::new(masked_flight(selection.mask, period)?))
+        },
+    });
     all
 }
 

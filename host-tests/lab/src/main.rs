@@ -43,6 +43,13 @@ enum Command {
         #[command(flatten)]
         options: IdentifyOptions,
     },
+    /// `rotorid identify` with the product's variants and `flight selected 2 SE`, the term
+    /// selection that asks a removal to beat the check blocks' noise (used by
+    /// scripts/term-evidence.sh). The same options.
+    IdentifyTerms {
+        #[command(flatten)]
+        options: IdentifyOptions,
+    },
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
     Report(ReportArgs),
@@ -198,7 +205,14 @@ fn write_text(path: &Path, text: String) -> Result<(), LabError> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Identify { options } => run_identify(&options.into_args()),
+        Command::Identify { options } => run_identify(
+            &options.into_args(),
+            &rotorid_lab::ablations::full_catalogue(),
+        ),
+        Command::IdentifyTerms { options } => run_identify(
+            &options.into_args(),
+            &rotorid_lab::ablations::term_evidence_catalogue(),
+        ),
         Command::Report(args) => run_report(&args),
         Command::RobustnessReport { runs, how, output } => {
             run_robustness_report(&runs, &how, &output)
@@ -213,15 +227,14 @@ fn main() -> ExitCode {
     }
 }
 
-/// `rotorid-lab identify`: the library's identification with the full catalogue, printing as
-/// it goes.
-fn run_identify(args: &identify::IdentifyArgs) -> Result<(), LabError> {
+/// `rotorid-lab identify` and `identify-terms`: the library's identification with a study's
+/// catalogue, printing as it goes.
+fn run_identify(
+    args: &identify::IdentifyArgs,
+    catalogue: &[rotorid_cli::experiments::Variant],
+) -> Result<(), LabError> {
     let mut terminal = Terminal::new()?;
-    identify::identify_with(
-        args,
-        &rotorid_lab::ablations::full_catalogue(),
-        &mut terminal,
-    )?;
+    identify::identify_with(args, catalogue, &mut terminal)?;
     Ok(())
 }
 

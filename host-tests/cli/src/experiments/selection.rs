@@ -33,6 +33,10 @@
 //!   did to yaw on plant variations). Then the terms: the term whose removal gives the
 //!   lowest score is switched off if the score does not get worse, and the search goes on
 //!   until every removal makes it worse (ties go to the simpler model).
+//! * [`select_terms_with`] can ask more of a removal: that it lower the check blocks' free
+//!   run by more than their noise (a paired comparison over the blocks). The product keeps
+//!   the plain rule; docs/term-evidence.md (`scripts/term-evidence.sh`) has what each does
+//!   over many seed pairs and why neither is the better one on both regimes.
 //!
 //! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
 //! rate's control gain `γ` and damping `δ`.
@@ -285,6 +289,7 @@ pub(super) fn score(
 ) -> Result<Score, rotorid::Error> {
     let (mut error, mut hold) = ([0.0f64; 6], [0.0f64; 6]);
     let mut diverged = 0;
+    let mut blocks = Vec::new();
     for split in folds {
         let mut id = masked_flight(mask, period_us)?;
         train(&mut id, &split.learn, &mut || {});
@@ -301,6 +306,7 @@ pub(super) fn score(
                 error[i] += run.error[i] * weight;
                 hold[i] += run.hold[i] * weight;
             }
+            blocks.push(run.error);
         }
     }
     let ratios = core::array::from_fn(|i| {
@@ -310,16 +316,23 @@ pub(super) fn score(
             1.0
         }
     });
-    Ok(Score { diverged, ratios })
+    Ok(Score {
+        diverged,
+        ratios,
+        blocks,
+    })
 }
 
 /// A candidate's free run on the check blocks.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct Score {
     /// Windows whose state left the core's sample limits (the run stops there).
     pub(super) diverged: usize,
     /// Free run / hold per state `[v_x v_y v_z q r p]` over the steps run.
     pub(super) ratios: [f64; 6],
+    /// Free-run mean absolute error per state on each check block, fold after fold: the
+    /// same blocks, in the same order, for every candidate.
+    pub(super) blocks: Vec<[f64; 6]>,
 }
 
 impl Score {
@@ -329,6 +342,29 @@ impl Score {
     fn key(&self, m: usize) -> (usize, f64) {
         (self.diverged, model_score(&self.ratios, m))
     }
+}
+
+/// Whether `candidate` predicts model `m`'s axes better than `current` by more than
+/// `evidence` standard errors of the check blocks: per block the log of the error ratio
+/// (candidate over current, mean over the axes), whose mean over the blocks must lie below
+/// `-evidence · s/√n`. The blocks are paired (the same data for both), so what differs
+/// between them is the candidate alone. With `evidence` 0 only the sign of the mean counts;
+/// fewer than two blocks, or a non-finite ratio, are no evidence.
+fn better_beyond_noise(candidate: &Score, current: &Score, m: usize, evidence: f64) -> bool {
+    let axes = AXES[m];
+    let d: Vec<f64> = candidate
+        .blocks
+        .iter()
+        .zip(&current.blocks)
+        .map(|(c, b)| axes.iter().map(|&i| (c[i] / b[i]).ln()).sum::<f64>() / axes.len() as f64)
+        .collect();
+    if d.len() < 2 || d.iter().any(|x| !x.is_finite()) {
+        return false;
+    }
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let variance = d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
+    mean < -evidence * (variance / n).sqrt()
 }
 
 /// Geometric mean of `ratios` over model `m`'s axes (non-finite: infinitely bad).
@@ -379,6 +415,19 @@ pub fn select_terms(
     training: &[Vec<HoverSample<f32>>],
     period_us: u32,
 ) -> Result<TermSelection, rotorid::Error> {
+    select_terms_with(training, period_us, None)
+}
+
+/// [`select_terms`], where with `evidence` = `Some(k)` a term is switched off only if, beyond
+/// not making the score worse, its removal lowers the model's free run on the check blocks
+/// by more than `k` standard errors of the paired block differences (`k` = 2: the partial-F
+/// ≥ 4 of stepwise regression, asked of the removal). The rules' choice is the same as
+/// [`select_terms`]'.
+pub fn select_terms_with(
+    training: &[Vec<HoverSample<f32>>],
+    period_us: u32,
+    evidence: Option<f64>,
+) -> Result<TermSelection, rotorid::Error> {
     let rate_hz = 1e6 / f64::from(period_us.max(1));
     let window = window_samples(rate_hz);
     let samples: usize = training.iter().map(Vec::len).sum();
@@ -426,7 +475,9 @@ pub fn select_terms(
                 // Ties go to the simpler model; a model that could not be scored at all
                 // (no finite score) replaces nothing.
                 Some((candidate, score))
-                    if score.key(m).1.is_finite() && score.key(m) <= current.key(m) =>
+                    if score.key(m).1.is_finite()
+                        && score.key(m) <= current.key(m)
+                        && evidence.is_none_or(|k| better_beyond_noise(&score, &current, m, k)) =>
                 {
                     mask = candidate;
                     current = score;
@@ -464,6 +515,34 @@ mod tests {
             TermMask::of_parameters(&Identifier::parameters(&full)),
             TermMask::default()
         );
+    }
+
+    /// A removal counts as better beyond noise only when the paired block differences say so:
+    /// a consistent 10 % gain passes at two standard errors, the same mean gain with a spread
+    /// as large does not (it passes the sign alone), and one block is no evidence.
+    #[test]
+    fn a_removal_must_beat_the_paired_blocks_noise() {
+        let run = |blocks: Vec<[f64; 6]>| Score {
+            diverged: 0,
+            ratios: [1.0; 6],
+            blocks,
+        };
+        let current = run(vec![[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]; 8]);
+        let scaled = |f: &dyn Fn(usize) -> f64| {
+            run((0..8)
+                .map(|b| core::array::from_fn(|i| current.blocks[b][i] * f(b)))
+                .collect())
+        };
+        let consistent = scaled(&|b| if b % 2 == 0 { 0.89 } else { 0.91 });
+        assert!(better_beyond_noise(&consistent, &current, 3, 2.0));
+        assert!(better_beyond_noise(&consistent, &current, 0, 2.0));
+        let noisy = scaled(&|b| if b % 2 == 0 { 0.7 } else { 1.1 });
+        assert!(!better_beyond_noise(&noisy, &current, 3, 2.0));
+        assert!(better_beyond_noise(&noisy, &current, 3, 0.0));
+        let worse = scaled(&|_| 1.05);
+        assert!(!better_beyond_noise(&worse, &current, 3, 0.0));
+        let one = run(vec![[0.5; 6]]);
+        assert!(!better_beyond_noise(&one, &run(vec![[1.0; 6]]), 3, 0.0));
     }
 
     #[test]
