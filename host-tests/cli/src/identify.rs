@@ -206,8 +206,13 @@ pub fn import_notes(
     for w in &imported.warnings {
         lines.push(format!("warning: {w}"));
     }
-    for seg in used {
-        for w in crate::log::warnings(&file, seg) {
+    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
+        used.iter().map(|seg| seg.as_slice()).collect();
+    if let Some(w) = crate::log::short_warning(&file, &segments) {
+        lines.push(format!("warning: {w}"));
+    }
+    for seg in &segments {
+        for w in crate::log::doubtful_data(&file, seg) {
             lines.push(format!("warning: {w}"));
         }
     }

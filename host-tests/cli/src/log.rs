@@ -556,13 +556,35 @@ pub fn rate_unit_ratio(samples: &[SensorSample]) -> Option<f64> {
 /// show anything (or angles that look like degrees by the same comparison).
 pub fn warnings(file: &str, samples: &[SensorSample]) -> Vec<String> {
     let mut out = Vec::new();
-    if samples.len() < MIN_USEFUL_SAMPLES {
-        out.push(format!(
-            "{file}: only {} samples ({:.2} s); errors over fewer than {MIN_USEFUL_SAMPLES} samples say little about a model",
-            samples.len(),
-            samples.last().map_or(0.0, |l| l.t) - samples.first().map_or(0.0, |f| f.t)
-        ));
-    }
+    out.extend(short_warning(file, &[samples]));
+    out.extend(doubtful_data(file, samples));
+    out
+}
+
+/// The one warning for the `segments` of `file` that are too short to show anything (fewer
+/// than [`MIN_USEFUL_SAMPLES`]), one line however many there are.
+pub fn short_warning(file: &str, segments: &[&[SensorSample]]) -> Option<String> {
+    let short: Vec<String> = segments
+        .iter()
+        .filter(|s| s.len() < MIN_USEFUL_SAMPLES)
+        .map(|s| {
+            let span = s.last().map_or(0.0, |l| l.t) - s.first().map_or(0.0, |f| f.t);
+            format!("{} samples ({span:.2} s)", s.len())
+        })
+        .collect();
+    let (what, list) = match short.as_slice() {
+        [] => return None,
+        [one] => ("only".to_string(), one.clone()),
+        many => (format!("{} segments of only", many.len()), many.join(", ")),
+    };
+    Some(format!(
+        "{file}: {what} {list}; errors over fewer than {MIN_USEFUL_SAMPLES} samples say little about a model"
+    ))
+}
+
+/// [`warnings`] other than [`short_warning`]: per segment.
+pub fn doubtful_data(file: &str, samples: &[SensorSample]) -> Vec<String> {
+    let mut out = Vec::new();
     if let Some(ratio) = rate_unit_ratio(samples) {
         if ratio > 20.0 {
             out.push(format!(
