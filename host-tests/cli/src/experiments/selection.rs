@@ -518,8 +518,9 @@ mod tests {
     }
 
     /// A removal counts as better beyond noise only when the paired block differences say so:
-    /// a consistent 10 % gain passes at two standard errors, the same mean gain with a spread
-    /// as large does not (it passes the sign alone), and one block is no evidence.
+    /// a consistent 10 % gain passes at two standard errors; a larger mean gain that swings
+    /// between −30 % and +10 % block to block does not (it passes on the sign alone); a loss
+    /// never passes, and one block is no evidence.
     #[test]
     fn a_removal_must_beat_the_paired_blocks_noise() {
         let run = |blocks: Vec<[f64; 6]>| Score {
