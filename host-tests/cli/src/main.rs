@@ -91,6 +91,16 @@ enum Command {
         /// cannot hold the helicopter; the simulation then says so.
         #[arg(long, default_value_t = 1.0)]
         pilot_gain_scale: f64,
+        /// Fly the plant's linearisation about hover instead of the plant: its trim, with
+        /// accelerations linear in the deviations from trim (stability and control
+        /// derivatives by central differences; exact kinematics). A linear helicopter model
+        /// of the kind the identification literature fits in hover.
+        #[arg(long)]
+        linear: bool,
+        /// Sample instants exactly every 20 ms (no ±2 ms jitter); with --clean, data with no
+        /// error of any kind.
+        #[arg(long)]
+        no_jitter: bool,
         /// Output CSV file.
         #[arg(short, long)]
         output: PathBuf,
@@ -158,6 +168,8 @@ fn main() -> ExitCode {
             plant_variation,
             cyclic_power,
             pilot_gain_scale,
+            linear,
+            no_jitter,
             output,
         } => run_simulate(
             kind,
@@ -169,6 +181,8 @@ fn main() -> ExitCode {
                 plant_variation,
                 cyclic_power,
                 pilot_gain_scale,
+                linear,
+                no_jitter,
             ),
             &output,
         ),
@@ -212,7 +226,14 @@ fn run_simulate(
     seed: u64,
     duration: Option<f64>,
     sensors: Sensors,
-    (airframe, variation, cyclic_power, pilot_gain_scale): (Airframe, Option<u64>, f64, f64),
+    (airframe, variation, cyclic_power, pilot_gain_scale, linear, no_jitter): (
+        Airframe,
+        Option<u64>,
+        f64,
+        f64,
+        bool,
+        bool,
+    ),
     output: &Path,
 ) -> Result<(), CliError> {
     let args = simulate::SimulateArgs {
@@ -229,6 +250,8 @@ fn run_simulate(
         airframe,
         variation,
         cyclic_power,
+        linear,
+        no_jitter,
     };
     let samples = simulate::simulate_with_pilot_gain(&args, pilot_gain_scale)?;
     log::write_log(output, &samples)?;

@@ -41,6 +41,11 @@ pub struct SimulateArgs {
     /// scaling is left as for the undamaged airframe (a worn or damaged rotor the pilot has
     /// not retuned for).
     pub cyclic_power: f64,
+    /// Fly the airframe's linearisation about hover (`rotorid_sim::plant::LinearHover`): a
+    /// linear helicopter model with the plant's trim and derivatives there.
+    pub linear: bool,
+    /// Sample instants exactly every period (no jitter).
+    pub no_jitter: bool,
 }
 
 impl SimulateArgs {
@@ -55,6 +60,8 @@ impl SimulateArgs {
             airframe: Airframe::XCell60,
             variation: None,
             cyclic_power: 1.0,
+            linear: false,
+            no_jitter: false,
         }
     }
 }
@@ -189,6 +196,10 @@ pub fn simulate_with_pilot_gain(
             })?,
         None => config,
     };
+    config.linear = args.linear;
+    if args.no_jitter {
+        config.jitter = 0.0;
+    }
     // Only when asked: a factor of exactly 1 leaves every number of the flight as it was.
     if power != 1.0 {
         config.params.a_lon *= power;
@@ -236,6 +247,31 @@ mod tests {
             cyclic_power: power,
             ..SimulateArgs::new(FlightKind::Verification, 3)
         })
+    }
+
+    /// The linearisation starts from the plant's trim (the first sample is the same) and then
+    /// flies differently; without jitter every sample is 20 ms after the last.
+    #[test]
+    fn the_linear_plant_starts_at_the_same_trim_and_no_jitter_is_exact() {
+        let args = |linear, no_jitter| SimulateArgs {
+            duration: Some(8.0),
+            clean: true,
+            linear,
+            no_jitter,
+            ..SimulateArgs::new(FlightKind::Verification, 3)
+        };
+        let plant = simulate(&args(false, false)).unwrap();
+        let linear = simulate(&args(true, false)).unwrap();
+        assert_eq!(linear.len(), plant.len());
+        assert_eq!(linear[0], plant[0]);
+        assert_ne!(linear, plant);
+        let exact = simulate(&args(true, true)).unwrap();
+        assert!(exact
+            .windows(2)
+            .all(|w| (w[1].t - w[0].t - 0.02).abs() < 1e-9));
+        assert!(linear
+            .windows(2)
+            .any(|w| (w[1].t - w[0].t - 0.02).abs() > 1e-4));
     }
 
     #[test]

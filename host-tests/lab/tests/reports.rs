@@ -40,6 +40,8 @@ fn flight(dir: &Path, kind: FlightKind, seed: u64, duration: f64) -> PathBuf {
         airframe: Airframe::XCell60,
         variation: None,
         cyclic_power: 1.0,
+        linear: false,
+        no_jitter: false,
     })
     .expect("simulate");
     let path = dir.join(format!("{kind:?}-{seed}.csv"));

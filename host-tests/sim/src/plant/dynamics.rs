@@ -268,10 +268,16 @@ pub fn rk4_step(
     wind_ned: &Vector3<f64>,
     dt: f64,
 ) -> State {
-    let (k1, _) = derivative(p, s, pitch, wind_ned);
-    let (k2, _) = derivative(p, &s.add_scaled(&k1, 0.5 * dt), pitch, wind_ned);
-    let (k3, _) = derivative(p, &s.add_scaled(&k2, 0.5 * dt), pitch, wind_ned);
-    let (k4, _) = derivative(p, &s.add_scaled(&k3, dt), pitch, wind_ned);
+    rk4_with(s, dt, |x| derivative(p, x, pitch, wind_ned).0)
+}
+
+/// One classical RK4 step of length `dt` (s) of the derivative `f` (the plant's, or its
+/// linearisation's, with the controls and wind held over the step).
+pub fn rk4_with(s: &State, dt: f64, f: impl Fn(&State) -> StateDot) -> State {
+    let k1 = f(s);
+    let k2 = f(&s.add_scaled(&k1, 0.5 * dt));
+    let k3 = f(&s.add_scaled(&k2, 0.5 * dt));
+    let k4 = f(&s.add_scaled(&k3, dt));
     let sixth = dt / 6.0;
     let sum = StateDot {
         pos_ned: k1.pos_ned + 2.0 * k2.pos_ned + 2.0 * k3.pos_ned + k4.pos_ned,

@@ -6,8 +6,9 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use super::airframe::{Airframe, StickScale};
-use super::dynamics::{rk4_step, State};
+use super::dynamics::{rk4_step, rk4_with, State};
 use super::error::PlantError;
+use super::linear::LinearHover;
 use super::params::{Helicopter, XCell60};
 use super::pilot::{HoverPilot, PilotGains};
 use super::sensors::{jitter_steps, measure, Gust, NoiseStd, SensorSample, Turbulence};
@@ -99,6 +100,10 @@ pub struct FlightConfig {
     pub initial_yaw: f64,
     /// Divergence limits.
     pub limits: Limits,
+    /// Fly the plant's linearisation about its hover trim ([`LinearHover`]) instead of the
+    /// plant: a linear helicopter model with the same trim and derivatives there.
+    #[serde(default)]
+    pub linear: bool,
 }
 
 impl Default for FlightConfig {
@@ -116,6 +121,7 @@ impl Default for FlightConfig {
             turbulence: None,
             initial_yaw: 0.0,
             limits: Limits::default(),
+            linear: false,
         }
     }
 }
@@ -246,6 +252,7 @@ pub struct Flight {
     rng_noise: ChaCha8Rng,
     rng_turb: ChaCha8Rng,
     gust: Option<Gust>,
+    linear: Option<LinearHover>,
 }
 
 impl Flight {
@@ -270,6 +277,9 @@ impl Flight {
             rng_noise: rng(config.seed, STREAM_NOISE),
             rng_turb,
             gust,
+            linear: config
+                .linear
+                .then(|| LinearHover::new(&config.params, &trim)),
         })
     }
 
@@ -325,7 +335,10 @@ impl Flight {
         let pitch = p.blade_pitch(&sticks);
         while self.grid_step < target {
             let wind = self.gust.as_ref().map_or_else(Vector3::zeros, Gust::wind);
-            self.state = rk4_step(p, &self.state, &pitch, &wind, dt);
+            self.state = match &self.linear {
+                Some(l) => rk4_with(&self.state, dt, |x| l.derivative(x, &pitch, &wind)),
+                None => rk4_step(p, &self.state, &pitch, &wind, dt),
+            };
             if let Some(g) = self.gust.as_mut() {
                 g.step(&mut self.rng_turb);
             }

@@ -13,6 +13,8 @@
 //! * [`pilot`]: the hover-hold pilot flying the channels that are not excited;
 //! * [`sensors`]: 50 Hz samples with jitter, noise and turbulence options;
 //! * [`flight`]: the flight runner [`simulate`] and verification manoeuvres;
+//! * [`linear`]: a plant's linearisation about hover ([`LinearHover`]), flown with
+//!   [`FlightConfig::linear`];
 //! * [`variation`]: other helicopters of the same kind, drawn around an airframe
 //!   ([`Helicopter::varied`]).
 //!
@@ -28,6 +30,7 @@ pub mod airframe;
 pub mod dynamics;
 pub mod error;
 pub mod flight;
+pub mod linear;
 pub mod params;
 pub mod pilot;
 pub mod rotor;
@@ -39,12 +42,13 @@ pub mod variation;
 pub use airframe::{
     heave_and_yaw_at_hover, steady_response_per_stick, Airframe, HeaveYawDerivatives, StickScale,
 };
-pub use dynamics::{derivative, rk4_step, Aero, BladePitch, State, StateDot};
+pub use dynamics::{derivative, rk4_step, rk4_with, Aero, BladePitch, State, StateDot};
 pub use error::PlantError;
 pub use flight::{
     simulate, verification_excitation, verification_excitation_scaled, Excitation, Flight,
     FlightConfig, Limits,
 };
+pub use linear::LinearHover;
 pub use params::{Helicopter, RotorBlades, StickMap, XCell60};
 pub use pilot::{HoverPilot, PilotGains};
 pub use rotor::{solve_rotor, RotorSolution};
