@@ -34,17 +34,16 @@ fly() {
     "$lab" identify --train ident.csv --verify verify.csv --out hover --no-plots
   ) >"$dir.log" 2>&1 || echo "$plant $sensors pair $k: failed (see its log)" >&2
 }
-pids=()
+# shellcheck source=scripts/lib/pairs.sh
+. scripts/lib/pairs.sh
 for plant in xcell60 flybarless600; do
   for sensors in default clean exact; do
     for k in $(seq 1 "$pairs"); do
-      fly "$plant" "$sensors" "$k" &
-      pids+=($!)
-      if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
+      spawn fly "$plant" "$sensors" "$k"
     done
   done
 done
-for p in "${pids[@]}"; do wait "$p" || true; done
+wait_spawned
 elapsed=$(($(date +%s) - start))
 
 python3 - "$work" "$pairs" "$elapsed" "$output" <<'PY'

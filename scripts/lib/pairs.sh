@@ -34,19 +34,31 @@ fly_pair() {
   ) >"$dir.log" 2>&1 || echo "$plant ${variation:+variation $variation }pair $k: failed (see its log)" >&2
 }
 
+# spawn CMD...: runs CMD in the background, two at a time (one per core); wait_spawned waits for
+# the rest. A failed job is not fatal (each job tells its own failure).
+spawned=()
+spawn() {
+  "$@" &
+  spawned+=($!)
+  if [ ${#spawned[@]} -ge 2 ]; then wait "${spawned[0]}" || true; spawned=("${spawned[@]:1}"); fi
+}
+wait_spawned() {
+  local p
+  for p in "${spawned[@]}"; do wait "$p" || true; done
+  spawned=()
+}
+
 # fly_pairs WORK PAIRS VARIATIONS: both airframes, the airframe itself and its variations
 # 1..VARIATIONS, each through seed pairs 1..PAIRS, two at a time (one per core), into
 # WORK/PLANT[-vVARIATION]-K.
 fly_pairs() {
-  local work=$1 pairs=$2 variations=$3 pids=() plant variation k p
+  local work=$1 pairs=$2 variations=$3 plant variation k
   for plant in xcell60 flybarless600; do
     for variation in "" $(seq 1 "$variations"); do
       for k in $(seq 1 "$pairs"); do
-        fly_pair "$plant" "$variation" "$k" "$work/$plant${variation:+-v$variation}-$k" &
-        pids+=($!)
-        if [ ${#pids[@]} -ge 2 ]; then wait "${pids[0]}" || true; pids=("${pids[@]:1}"); fi
+        spawn fly_pair "$plant" "$variation" "$k" "$work/$plant${variation:+-v$variation}-$k"
       done
     done
   done
-  for p in "${pids[@]}"; do wait "$p" || true; done
+  wait_spawned
 }

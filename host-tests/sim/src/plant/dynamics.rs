@@ -125,6 +125,23 @@ pub struct StateDot {
     pub b1: f64,
 }
 
+impl StateDot {
+    /// The accelerations `[u̇ v̇ ẇ ṗ q̇ ṙ ȧ1 ḃ1]`: what the trim zeroes (the first six) and what
+    /// a linearisation is linear in.
+    pub fn accelerations(&self) -> nalgebra::SVector<f64, 8> {
+        nalgebra::SVector::<f64, 8>::from_column_slice(&[
+            self.vel_body.x,
+            self.vel_body.y,
+            self.vel_body.z,
+            self.omega.x,
+            self.omega.y,
+            self.omega.z,
+            self.a1,
+            self.b1,
+        ])
+    }
+}
+
 /// Forces, moments and rotor solutions of one evaluation (for trim, tests and diagnostics).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aero {

@@ -36,20 +36,6 @@ pub struct LinearHover {
     b: SMatrix<f64, 8, INPUTS>,
 }
 
-/// The accelerations of a state derivative, `[u̇ v̇ ẇ ṗ q̇ ṙ ȧ1 ḃ1]`.
-fn accelerations(d: &StateDot) -> SVector<f64, 8> {
-    SVector::<f64, 8>::from_column_slice(&[
-        d.vel_body.x,
-        d.vel_body.y,
-        d.vel_body.z,
-        d.omega.x,
-        d.omega.y,
-        d.omega.z,
-        d.a1,
-        d.b1,
-    ])
-}
-
 /// Blade pitch as a vector `[θ0 θ_tr δ_lon δ_lat]`.
 fn pitch_vector(p: &BladePitch) -> SVector<f64, INPUTS> {
     SVector::<f64, INPUTS>::new(p.theta0, p.theta_tr, p.delta_lon, p.delta_lat)
@@ -69,7 +55,7 @@ impl LinearHover {
                 delta_lon: pitch.delta_lon + u[2],
                 delta_lat: pitch.delta_lat + u[3],
             };
-            accelerations(&derivative(p, &s, &bp, &still).0)
+            derivative(p, &s, &bp, &still).0.accelerations()
         };
         let (x0, u0) = (SVector::zeros(), SVector::zeros());
         let mut a = SMatrix::<f64, 8, STATES>::zeros();
@@ -162,17 +148,19 @@ mod tests {
         let lin = LinearHover::new(&p, &trim);
         let still = Vector3::zeros();
         let at_rest = lin.derivative(&trim.state, &trim.blade_pitch, &still);
-        assert!(accelerations(&at_rest).amax() < 1e-8, "{at_rest:?}");
+        assert!(at_rest.accelerations().amax() < 1e-8, "{at_rest:?}");
         let mut s = trim.state;
         s.vel_body += Vector3::new(0.01, -0.01, 0.005);
         s.omega += Vector3::new(0.002, -0.001, 0.003);
         s.a1 += 1e-4;
         let mut bp = trim.blade_pitch;
         bp.delta_lon += 1e-3;
-        let exact = accelerations(&derivative(&p, &s, &bp, &still).0);
-        let linear = accelerations(&lin.derivative(&s, &bp, &still));
+        let exact = derivative(&p, &s, &bp, &still).0.accelerations();
+        let linear = lin.derivative(&s, &bp, &still).accelerations();
         let change = (exact
-            - accelerations(&derivative(&p, &trim.state, &trim.blade_pitch, &still).0))
+            - derivative(&p, &trim.state, &trim.blade_pitch, &still)
+                .0
+                .accelerations())
         .amax();
         assert!(change > 1e-3, "the deviation moves the plant: {change}");
         assert!(

@@ -73,14 +73,7 @@ fn trim_state(p: &Helicopter, x: &SVector<f64, 6>, yaw: f64) -> (Sticks, BladePi
 fn residual(p: &Helicopter, x: &SVector<f64, 6>, yaw: f64) -> SVector<f64, 6> {
     let (_, bp, state) = trim_state(p, x, yaw);
     let (d, _) = derivative(p, &state, &bp, &Vector3::zeros());
-    SVector::<f64, 6>::new(
-        d.vel_body.x,
-        d.vel_body.y,
-        d.vel_body.z,
-        d.omega.x,
-        d.omega.y,
-        d.omega.z,
-    )
+    d.accelerations().fixed_rows::<6>(0).into_owned()
 }
 
 /// Solves the hover trim at heading `yaw` (rad) by Newton iteration on
