@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # docs/term-evidence.md: how much evidence the term selection (`flight selected`) should ask
 # before it switches a term off. The product's rule drops a term whenever its removal does not
-# make the free run on the training log's check blocks worse; `flight selected 2 SE` drops it
-# only when the removal lowers that free run by more than two standard errors of the paired
-# block differences (`select_terms_with`). For each airframe and seed pair k = 1..PAIRS (the
+# make the free run on the training log's check blocks worse; `flight selected 2 SE` (1 SE,
+# 0.5 SE) drops it only when the removal lowers that free run by more than two (one, half a)
+# standard errors of the paired block differences (`select_terms_with`). For each airframe and seed pair k = 1..PAIRS (the
 # pairs of docs/seeds.md) it flies the hover and the envelope pairs, runs
-# `rotorid-lab identify-terms --train --verify` (the product's variants and the 2 SE one) and
-# compares both selections with `flight plain` and extended plain on the verification flight.
+# `rotorid-lab identify-terms --train --verify` (the product's variants and the k SE ones) and
+# compares the selections with `flight plain` and extended plain on the verification flight.
 # Usage: scripts/term-evidence.sh [PAIRS] [OUTPUT] (defaults 10, docs/term-evidence.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,7 +34,7 @@ import glob, json, math, os, statistics, sys
 work, pairs, elapsed, output = sys.argv[1:]
 pairs = int(pairs)
 states = ["v_x", "v_y", "v_z", "q", "r", "p"]
-SELECTIONS = ["flight selected", "flight selected 2 SE"]
+SELECTIONS = ["flight selected", "flight selected 2 SE", "flight selected 1 SE", "flight selected 0.5 SE"]
 PLANTS = [("xcell60", "X-Cell 60"), ("flybarless600", "flybarless 600")]
 MODELS = ["velocity", "q", "r", "p"]
 VELOCITY_TERMS = ["α1", "α2", "d_f", "d_r", "d_u", "σ0", "σ1", "α0"]
@@ -73,7 +73,8 @@ lines = [
     "`flight selected` is the product's selection: per model, a term is switched off whenever its removal does "
     "not make the free run on the training log's check blocks worse (docs/cli.md). `flight selected 2 SE` "
     "switches it off only when the removal lowers that free run by more than two standard errors of the paired "
-    "block differences (the partial-F ≥ 4 of stepwise regression, asked of the removal). Both choose the rules "
+    "block differences (the partial-F ≥ 4 of stepwise regression, asked of the removal); `1 SE` and `0.5 SE` ask "
+    "one and half a standard error. All choose the rules "
     "the same way. Issue 32 asks that the selected model be never worse than `flight plain` by more than 3 % on "
     f"any state, and that the envelope's r be at most 0.7 of extended plain's. Run time {elapsed} s on 2 cores.",
     "",
@@ -82,6 +83,8 @@ lines = [
 ]
 # Per selection: cases with a state more than 3 % worse than flight plain, cases scored.
 totals = {s: [0, 0] for s in SELECTIONS}
+# Median r ÷ extended plain per (plant, regime, selection).
+r_median = {}
 for plant, plant_name in PLANTS:
     for regime, regime_name in REGIMES:
         rows = {s: {"violations": 0, "worst": 0.0, "r": [], "p": [], "off": {}} for s in SELECTIONS}
@@ -111,6 +114,8 @@ for plant, plant_name in PLANTS:
                         row["off"][name] = row["off"].get(name, 0) + 1
         for s in SELECTIONS:
             row = rows[s]
+            if row["r"]:
+                r_median[(plant, regime, s)] = statistics.median(row["r"])
             totals[s][0] += row["violations"]
             totals[s][1] += scored
             if not row["r"]:
@@ -126,8 +131,8 @@ lines += [
     "held out): each selection's free run ÷ holding the measured state, geometric mean over the six axes "
     "(`diverged`: a free-run window left the sample limits, so the model has no score).",
     "",
-    "| log | flight | flight selected | flight selected 2 SE | terms switched off: flight selected / 2 SE |",
-    "|---|---:|---:|---:|---|",
+    "| log | flight | " + " | ".join(SELECTIONS) + " | terms switched off: " + " / ".join(s[len("flight "):] for s in SELECTIONS) + " |",
+    "|---|" + "---:|" * (1 + len(SELECTIONS)) + "---|",
 ]
 for path in sorted(glob.glob(os.path.join(work, "sitl-*", "metrics.json"))):
     directory = os.path.dirname(path)
@@ -147,15 +152,20 @@ for path in sorted(glob.glob(os.path.join(work, "sitl-*", "metrics.json"))):
 
     log = os.path.basename(directory)[len("sitl-"):] + ".bin"
     lines.append(
-        f"| `{log}` | {score('flight')} | {score(SELECTIONS[0])} | {score(SELECTIONS[1])} | "
-        f"{off_of(SELECTIONS[0])} / {off_of(SELECTIONS[1])} |"
+        f"| `{log}` | {score('flight')} | " + " | ".join(score(s) for s in SELECTIONS) + " | "
+        + " / ".join(off_of(s) for s in SELECTIONS) + " |"
     )
 lines += [
     "",
     "## What it shows",
     "",
-    f"- Over every pair and regime above, `flight selected` has a state more than 3 % worse than `flight plain` in "
-    f"{totals[SELECTIONS[0]][0]} of {totals[SELECTIONS[0]][1]}; `flight selected 2 SE` in {totals[SELECTIONS[1]][0]} of {totals[SELECTIONS[1]][1]}.",
+    "- Over every pair and regime above, the pairs with a state more than 3 % worse than `flight plain`: "
+    + "; ".join(f"`{s}` {totals[s][0]} of {totals[s][1]}" for s in SELECTIONS) + ". The X-Cell envelope's median r "
+    "÷ extended plain: " + "; ".join(
+        f"`{s}` {r_median[('xcell60', 'envelope', s)]:.2f}" for s in SELECTIONS if ('xcell60', 'envelope', s) in r_median
+    ) + ". The less evidence a removal needs, the more of the yaw model's terms the envelope drops, and r falls only once they go, "
+    "and the more pairs lose against `flight plain`; no threshold meets both of issue 32's bounds (r ≤ 0.7 and "
+    "never more than 3 % worse than `flight plain`).",
     "- The product's rule removes terms whose removal the check blocks cannot tell from noise. In hover those are "
     "mostly the coupling and speed terms of q and p (`𝕀`, `κ`): the identification flight's check blocks revisit "
     "its own small excursions, where those terms do little, and the verification flight, which leaves them, needs "
@@ -164,11 +174,11 @@ lines += [
     "errors, the check blocks of one log never show it.",
     "- On the SITL helicopter's SystemID log, a simulator not written here, the flight default's free run leaves the "
     "sample limits, and the product's selection, which switches off terms the check blocks do not support, is what "
-    "gives a model to fly; asked for two standard errors, the selection keeps the terms and its model fails as the "
-    "default's does (the table above).",
+    "gives a model to fly; asked for half a standard error or more, the selection keeps terms the plain rule drops "
+    "and its model fails as the default's does (the table above).",
     "- So the product keeps the plain rule: its losses in hover are caught by the verdict where the held-out data show "
     "them (it flies `flight` then, docs/seeds.md), while the conservative rule loses the models that the plain one "
-    "rescues. `select_terms_with` is the library call for the conservative one. Issue 32's bound on the selected "
+    "rescues. `select_terms_with` is the library call for the conservative ones. Issue 32's bound on the selected "
     "model against `flight plain` stays unmet in hover.",
 ]
 with open(output, "w") as f:

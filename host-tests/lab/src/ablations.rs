@@ -9,7 +9,9 @@ use rotorid::hover::{
 };
 use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{FlightIdentifier, HoverConfig};
-use rotorid_cli::experiments::{at, masked_flight, pin_to_zero, select_terms_with, Variant};
+use rotorid_cli::experiments::{
+    at, masked_flight, pin_to_zero, select_terms_with, Identifier, Variant,
+};
 
 /// The product's catalogue ([`rotorid_cli::experiments::variants`]) followed by the
 /// ablations, in the order every study's tables and metrics keep.
@@ -19,21 +21,43 @@ pub fn full_catalogue() -> Vec<Variant> {
     all
 }
 
-/// The product's catalogue followed by `flight selected 2 SE`: the term selection asking a
-/// removal to beat the check blocks' noise by two standard errors
+/// The product's catalogue followed by `flight selected 2 SE`, `1 SE` and `0.5 SE`: the term
+/// selection asking a removal to beat the check blocks' noise by that many standard errors
 /// ([`select_terms_with`]); `rotorid-lab identify-terms`, docs/term-evidence.md.
 pub fn term_evidence_catalogue() -> Vec<Variant> {
     let mut all = rotorid_cli::experiments::variants();
-    all.push(Variant {
-        name: "flight selected 2 SE",
-        description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than two standard errors of the paired block differences",
-        kind: None,
-        build: |training, period| {
-            let selection = select_terms_with(training, period, Some(2.0))?;
-            Ok(Box::new(masked_flight(selection.mask, period)?))
+    all.extend([
+        Variant {
+            name: "flight selected 2 SE",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than two standard errors of the paired block differences",
+            kind: None,
+            build: |training, period| selected_asking(2.0, training, period),
         },
-    });
+        Variant {
+            name: "flight selected 1 SE",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than one standard error of the paired block differences",
+            kind: None,
+            build: |training, period| selected_asking(1.0, training, period),
+        },
+        Variant {
+            name: "flight selected 0.5 SE",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than half a standard error of the paired block differences",
+            kind: None,
+            build: |training, period| selected_asking(0.5, training, period),
+        },
+    ]);
     all
+}
+
+/// The flight default with the terms whose removal beats the check blocks' noise by `k`
+/// standard errors switched off.
+fn selected_asking(
+    k: f64,
+    training: &[Vec<HoverSample<f32>>],
+    period: u32,
+) -> Result<Box<dyn Identifier>, rotorid::Error> {
+    let selection = select_terms_with(training, period, Some(k))?;
+    Ok(Box::new(masked_flight(selection.mask, period)?))
 }
 
 /// The ablations of the flight default.
