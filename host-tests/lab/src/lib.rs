@@ -6,6 +6,8 @@
 //! * [`results`] (with [`tables`] and [`flight_report`]): docs/results.md from the metrics of
 //!   `rotorid-lab identify` runs.
 //! * [`robustness`]: docs/robustness.md from the metrics of plant variations.
+//! * [`rate_orders`]: the rate models' order and gyro-noise compensation fitted offline
+//!   (docs/rate-orders.md).
 //!
 //! It depends on `rotorid-cli` (the identification, the metrics, the verdict), never the
 //! reverse: the product carries no report generator and no ablation.
@@ -13,6 +15,7 @@
 pub mod ablations;
 pub mod error;
 pub mod flight_report;
+pub mod rate_orders;
 pub mod results;
 pub mod robustness;
 pub mod tables;

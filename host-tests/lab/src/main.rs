@@ -50,6 +50,20 @@ enum Command {
         #[command(flatten)]
         options: IdentifyOptions,
     },
+    /// Fit the rate models offline by batch least squares, with and without the lagged
+    /// control and with each gyro-noise compensation, and score their free runs on a
+    /// verification log (JSON; used by scripts/rate-orders.sh).
+    RateOrders {
+        /// Training log (CSV).
+        #[arg(long)]
+        train: PathBuf,
+        /// Verification log (CSV).
+        #[arg(long)]
+        verify: PathBuf,
+        /// Output JSON file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Write docs/results.md from the metrics of a realistic and a clean run (used by
     /// scripts/results.sh).
     Report(ReportArgs),
@@ -134,6 +148,10 @@ enum LabError {
         path: PathBuf,
         source: serde_json::Error,
     },
+    #[error(transparent)]
+    Log(#[from] rotorid_cli::log::LogError),
+    #[error(transparent)]
+    Core(#[from] rotorid::Error),
     #[error("progress bar")]
     ProgressBar(#[from] rotorid_cli::terminal::TemplateError),
     #[error(transparent)]
@@ -213,6 +231,11 @@ fn main() -> ExitCode {
             &options.into_args(),
             &rotorid_lab::ablations::term_evidence_catalogue(),
         ),
+        Command::RateOrders {
+            train,
+            verify,
+            output,
+        } => run_rate_orders(&train, &verify, &output),
         Command::Report(args) => run_report(&args),
         Command::RobustnessReport { runs, how, output } => {
             run_robustness_report(&runs, &how, &output)
@@ -236,6 +259,28 @@ fn run_identify(
     let mut terminal = Terminal::new()?;
     identify::identify_with(args, catalogue, &mut terminal)?;
     Ok(())
+}
+
+/// `rotorid-lab rate-orders`.
+fn run_rate_orders(train: &Path, verify: &Path, output: &Path) -> Result<(), LabError> {
+    let read = |path: &Path| -> Result<_, LabError> {
+        Ok(rotorid_sim::flights::to_hover_samples(
+            &rotorid_cli::log::read_log(path)?,
+        ))
+    };
+    let (training, verification) = (read(train)?, read(verify)?);
+    let period_s = match (training.first(), training.last()) {
+        (Some(a), Some(b)) if training.len() > 1 => {
+            (b.time_us - a.time_us) as f64 * 1e-6 / (training.len() - 1) as f64
+        }
+        _ => 0.02,
+    };
+    let orders = rotorid_lab::rate_orders::rate_orders(&training, &verification, period_s)?;
+    let text = serde_json::to_string_pretty(&orders).map_err(|source| LabError::ParseJson {
+        path: output.to_path_buf(),
+        source,
+    })?;
+    write_text(output, text)
 }
 
 fn run_robustness_report(runs: &[RunPaths], how: &str, output: &Path) -> Result<(), LabError> {
