@@ -12,8 +12,8 @@
 
 use crate::error::Error;
 use crate::hover::{
-    Attitude, AttitudeInput, HoverConfig, HoverIdentifier, HoverSample, HoverState, StateModel,
-    StepOutput,
+    Attitude, AttitudeInput, GyroCompensation, HoverConfig, HoverIdentifier, HoverSample,
+    HoverState, StateModel, StepOutput,
 };
 use crate::rls::Compensation;
 use crate::snapshot::{Snapshot, WriteError};
@@ -44,6 +44,14 @@ pub trait DynIdentifier<A: AttitudeInput<f32> = Attitude<f32>> {
     /// [`HoverIdentifier::compensate`]: the rate models' parameters with the bias of the gyros'
     /// white noise σ `[q r p]` (deg/s) removed.
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
+
+    /// [`HoverIdentifier::compensate_with`]: [`compensate`](Self::compensate), removing the
+    /// noise `how` says.
+    fn compensate_with(
+        &mut self,
+        gyro_noise: &[f32; 3],
+        how: GyroCompensation,
+    ) -> Result<Compensation, Error>;
 
     /// [`HoverIdentifier::reset`]: forgets everything learnt.
     fn reset(&mut self);
@@ -102,6 +110,13 @@ where
     }
     fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
         HoverIdentifier::compensate(self, gyro_noise)
+    }
+    fn compensate_with(
+        &mut self,
+        gyro_noise: &[f32; 3],
+        how: GyroCompensation,
+    ) -> Result<Compensation, Error> {
+        HoverIdentifier::compensate_with(self, gyro_noise, how)
     }
     fn reset(&mut self) {
         HoverIdentifier::reset(self)

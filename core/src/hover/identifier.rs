@@ -3,7 +3,7 @@
 use crate::error::{Error, Quantity};
 use crate::hover::attitude::AttitudeInput;
 use crate::hover::config::{HoverConfig, RegressorScaling};
-use crate::hover::models::{BodyFrame, Premise, SharedStrengths, StateModel};
+use crate::hover::models::{BodyFrame, GyroCompensation, Premise, SharedStrengths, StateModel};
 use crate::hover::sample::{Controls, HoverSample, HoverState, SampleLimits};
 use crate::rls::{Compensation, RlsView};
 use crate::rule_base::{same_sets, PremiseSets};
@@ -540,6 +540,16 @@ where
     /// parameters, and the result counts it. On `Err` (σ not finite, negative or above
     /// [`SampleLimits::RATE`]) nothing changed.
     pub fn compensate(&mut self, gyro_noise: &[T; 3]) -> Result<Compensation, Error> {
+        self.compensate_with(gyro_noise, GyroCompensation::Damping)
+    }
+
+    /// [`compensate`](Self::compensate), removing the noise `how` says
+    /// ([`GyroCompensation::Full`]: the second-order term's too).
+    pub fn compensate_with(
+        &mut self,
+        gyro_noise: &[T; 3],
+        how: GyroCompensation,
+    ) -> Result<Compensation, Error> {
         for &sigma in gyro_noise {
             if !sigma.is_finite() {
                 return Err(Error::NonFinite(Quantity::Config));
@@ -550,10 +560,10 @@ where
         }
         Ok(self
             .velocity
-            .compensate(gyro_noise)
-            .and(self.pitch.compensate(gyro_noise))
-            .and(self.yaw.compensate(gyro_noise))
-            .and(self.roll.compensate(gyro_noise)))
+            .compensate(gyro_noise, how)
+            .and(self.pitch.compensate(gyro_noise, how))
+            .and(self.yaw.compensate(gyro_noise, how))
+            .and(self.roll.compensate(gyro_noise, how)))
     }
 
     /// Forgets everything learnt: θ = 0, P = αI, no previous sample.

@@ -32,8 +32,8 @@ pub use attitude::{AnyAttitude, Attitude, AttitudeInput, Quaternion, RotationMat
 pub use config::{HoverConfig, RegressorScaling};
 pub use identifier::{HoverIdentifier, HoverModels, HoverSnapshot, ModelId, StepOutput};
 pub use models::{
-    right_axis, rotor_axis, BodyFrame, Premise, RateAxis, RateModel, RateStructure, StateModel,
-    VelocityModel, VelocityStructure,
+    right_axis, rotor_axis, BodyFrame, GyroCompensation, Premise, RateAxis, RateModel,
+    RateStructure, StateModel, VelocityModel, VelocityStructure,
 };
 pub use noise::RateNoise;
 pub use observer::{GainSearch, Observer};

@@ -31,6 +31,17 @@
 //! * The U-D form only: the covariance form would need P inverted to read N
 //!   ([`NotCompensated::Unsupported`]).
 //!
+//! **A second noisy regressor** ([`PairedNoise`]): a rate model of second order has the
+//! increment `Δω(k−1) = ω(k) − ω(k−1)` as a regressor m too, whose noise `n(k) − n(k−1)` has
+//! variance `2σ²` and covariance `σ²` with `ω(k)`'s. `Σₙ` then has the 2×2 block
+//! `Σ_B = [[σ_j², c], [c, σ_m²]]` on `B = {j, m}`, and the solution is closed-form still:
+//! `(I − N P_BB Σ_B) θ_B = (θ_LS − N P s)_B`, then `θ = θ_LS − N P s + N P_{·B} Σ_B θ_B`. The
+//! guard asks both eigenvalues of `N P_BB Σ_B` below ½ (`det(½I − K) > 0` and
+//! `tr(½I − K) > 0`, no square root), and the compensated rate's own dynamics
+//! `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` to stay stable
+//! ([`NotCompensated::Unstable`]): a noise correction that turns a damped rate into a growing
+//! one has amplified an estimate's error, not removed a bias.
+//!
 //! [`Rls::bias_compensated`] returns the parameters and changes nothing; [`Rls::compensate`]
 //! writes them into θ (P is kept).
 
@@ -52,6 +63,25 @@ pub struct RegressorNoise<T, const N: usize> {
     pub unit: usize,
     /// The value of regressor c (1 unscaled; `1/S_c` scaled): N = `(P⁻¹)_cc / value²`.
     pub unit_value: T,
+    /// A second noisy regressor whose noise correlates with j's (`None`: j alone is noisy).
+    pub paired: Option<PairedNoise<T>>,
+}
+
+/// The second noisy regressor m of a [`RegressorNoise`]: in a rate model, the second-order
+/// term `Δω(k−1)` beside the damping term `ω(k)` (regressor j). See the
+/// [module docs](self).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PairedNoise<T> {
+    /// m: the second regressor measured with noise.
+    pub index: usize,
+    /// `σ_m²`: the variance of its noise (≥ 0).
+    pub variance: T,
+    /// The covariance of its noise with regressor j's.
+    pub covariance: T,
+    /// `[f_j, f_m]`: the damping `δ = f_j θ_j` and the second-order coefficient `η = f_m θ_m`
+    /// of the rate's own dynamics `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` (the target's scale
+    /// over each term's), which the compensated θ must keep stable.
+    pub dynamics: [T; 2],
 }
 
 /// Why [`Rls::bias_compensated`] returned no parameters (the estimator's own stand).
@@ -69,6 +99,8 @@ pub enum NotCompensated {
     TooNoisy,
     /// A factor entry or a result that is not finite, or a non-positive D entry.
     Numerical,
+    /// With a [`PairedNoise`]: the compensated rate's own dynamics are unstable.
+    Unstable,
 }
 
 /// What compensating a model's rules did ([`TsEstimator::compensate`](crate::learning::TsEstimator::compensate)).
@@ -140,12 +172,30 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         if config.algorithm != Algorithm::UdFactor || noise.noisy >= N || noise.unit >= N {
             return Err(NotCompensated::Unsupported);
         }
-        let finite = noise.with_target.iter().all(|s| s.is_finite());
+        if noise
+            .paired
+            .is_some_and(|m| m.index >= N || m.index == noise.noisy)
+        {
+            return Err(NotCompensated::Unsupported);
+        }
+        let paired_ok = noise.paired.is_none_or(|m| {
+            m.variance >= T::zero()
+                && m.variance.is_finite()
+                && m.covariance.is_finite()
+                && m.dynamics.iter().all(|f| f.is_finite())
+        });
+        let finite = paired_ok && noise.with_target.iter().all(|s| s.is_finite());
         let unit_ok = noise.unit_value.is_finite() && noise.unit_value != T::zero();
         if !(finite && unit_ok && noise.variance >= T::zero() && noise.variance.is_finite()) {
             return Err(NotCompensated::InvalidNoise);
         }
-        if noise.variance == T::zero() && noise.with_target.iter().all(|&s| s == T::zero()) {
+        let paired_zero = noise
+            .paired
+            .is_none_or(|m| m.variance == T::zero() && m.covariance == T::zero());
+        if paired_zero
+            && noise.variance == T::zero()
+            && noise.with_target.iter().all(|&s| s == T::zero())
+        {
             return Ok(self.theta);
         }
         let factor = self.factor.as_slice();
@@ -169,12 +219,18 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         if share >= T::lit(0.5) {
             return Err(NotCompensated::TooNoisy);
         }
-        let theta_j = (at(&self.theta) - samples * at(&p_s)) / (T::one() - share);
-        let gain = samples * noise.variance * theta_j;
-        let mut theta = self.theta;
-        for ((t, &ps), &pj) in theta.iter_mut().zip(p_s.iter()).zip(p_j.iter()) {
-            *t = *t - samples * ps + gain * pj;
-        }
+        let theta = match noise.paired {
+            None => {
+                let theta_j = (at(&self.theta) - samples * at(&p_s)) / (T::one() - share);
+                let gain = samples * noise.variance * theta_j;
+                let mut theta = self.theta;
+                for ((t, &ps), &pj) in theta.iter_mut().zip(p_s.iter()).zip(p_j.iter()) {
+                    *t = *t - samples * ps + gain * pj;
+                }
+                theta
+            }
+            Some(m) => self.paired_compensated(noise, &m, samples, &p_s, &p_j)?,
+        };
         // Within the import bound: a compensated θ beyond it could make a later prediction
         // overflow after a step had written its update.
         if theta.iter().all(|&t| within(t, T::lit(PARAMETER_LIMIT))) {
@@ -183,6 +239,68 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
             Err(NotCompensated::Numerical)
         }
     }
+
+    /// θ compensated for two noisy regressors j and m (see the [module docs](self)), given
+    /// N, `P s` and `P e_j`.
+    fn paired_compensated(
+        &self,
+        noise: &RegressorNoise<T, N>,
+        paired: &PairedNoise<T>,
+        samples: T,
+        p_s: &[T; N],
+        p_j: &[T; N],
+    ) -> Result<[T; N], NotCompensated> {
+        let (j, m) = (noise.noisy, paired.index);
+        let mut e_m = [T::zero(); N];
+        if let Some(x) = e_m.get_mut(m) {
+            *x = T::one();
+        }
+        let p_m = ud_times::<T, N>(self.factor.as_slice(), &e_m);
+        let at = |v: &[T; N], i: usize| v.get(i).copied().unwrap_or_else(T::zero);
+        let (p_jj, p_jm, p_mm) = (at(p_j, j), at(p_j, m), at(&p_m, m));
+        let (s_jj, s_jm, s_mm) = (noise.variance, paired.covariance, paired.variance);
+        // K = N P_BB Σ_B.
+        let k11 = samples * (p_jj * s_jj + p_jm * s_jm);
+        let k12 = samples * (p_jj * s_jm + p_jm * s_mm);
+        let k21 = samples * (p_jm * s_jj + p_mm * s_jm);
+        let k22 = samples * (p_jm * s_jm + p_mm * s_mm);
+        // Both eigenvalues of K below ½: those of ½I − K positive (they are real: K is the
+        // product of two symmetric positive semi-definite matrices).
+        let half = T::lit(0.5);
+        let (h11, h22) = (half - k11, half - k22);
+        let det_half = h11 * h22 - k12 * k21;
+        if !(det_half.is_finite() && h11 + h22 > T::zero() && det_half > T::zero()) {
+            return Err(NotCompensated::TooNoisy);
+        }
+        // (I − K) θ_B = r.
+        let (r1, r2) = (
+            at(&self.theta, j) - samples * at(p_s, j),
+            at(&self.theta, m) - samples * at(p_s, m),
+        );
+        let (a11, a22) = (T::one() - k11, T::one() - k22);
+        let det = a11 * a22 - k12 * k21;
+        let theta_j = (r1 * a22 + k12 * r2) / det;
+        let theta_m = (a11 * r2 + k21 * r1) / det;
+        let gain_j = samples * (s_jj * theta_j + s_jm * theta_m);
+        let gain_m = samples * (s_jm * theta_j + s_mm * theta_m);
+        let mut theta = self.theta;
+        for (((t, &ps), &pj), &pm) in theta.iter_mut().zip(p_s).zip(p_j).zip(p_m.iter()) {
+            *t = *t - samples * ps + gain_j * pj + gain_m * pm;
+        }
+        let [f_j, f_m] = paired.dynamics;
+        if !stable_second_order(f_j * at(&theta, j), f_m * at(&theta, m)) {
+            return Err(NotCompensated::Unstable);
+        }
+        Ok(theta)
+    }
+}
+
+/// Whether `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` is stable: both roots of
+/// `z² + c1 z + c0`, `c1 = −(1 + δ + η)`, `c0 = η`, inside the unit circle (Jury: `|c0| < 1`
+/// and `|c1| < 1 + c0`). False for non-finite coefficients.
+fn stable_second_order<T: Real>(delta: T, eta: T) -> bool {
+    let c1 = -(T::one() + delta + eta);
+    c1.abs() < T::one() + eta && eta.abs() < T::one()
 }
 
 /// `(P⁻¹)_cc` from the packed U-D factors: `Σ_k z_k² / d_k` with `z = U⁻¹ e_c` (back
@@ -275,6 +393,7 @@ mod tests {
             with_target: [-sigma * sigma, 0.0, 0.0],
             unit: 2,
             unit_value: 1.0,
+            paired: None,
         };
         (rls, noise, [a - 1.0, b, c])
     }
@@ -306,6 +425,113 @@ mod tests {
             written.parameters().map(f64::to_bits),
             compensated.map(f64::to_bits)
         );
+    }
+
+    /// `ω₀(k+1) = a1 ω₀(k) + a2 ω₀(k−1) + b u(k) + c`, measured with white noise of variance
+    /// σ²; learnt as the increment on `[ω(k), u(k), 1, Δω(k−1)]`, whose first and last
+    /// regressors are noisy (their noises correlate). The truth in those terms:
+    /// `δ = a1 + a2 − 1`, `η = −a2`.
+    fn learn_second_order(sigma: f64) -> (Rls<f64, 4, 10>, RegressorNoise<f64, 4>, [f64; 4]) {
+        let (a1, a2, b, c) = (1.5, -0.6, 0.5, 0.2);
+        let mut rls = Rls::<f64, 4, 10>::new(RlsConfig::default()).unwrap();
+        let mut rng = Uniform(0x2545_F491_4F6C_DD1D);
+        let amplitude = sigma * 3f64.sqrt();
+        let (mut now0, mut before0, mut u) = (0.0, 0.0, 0.0);
+        let (mut now, mut before) = (amplitude * rng.next(), amplitude * rng.next());
+        for k in 0..100_000 {
+            if k % 5 == 0 {
+                u = rng.next();
+            }
+            let next0 = a1 * now0 + a2 * before0 + b * u + c;
+            let next = next0 + amplitude * rng.next();
+            rls.update(&[now, u, 1.0, now - before], next - now)
+                .unwrap();
+            (before0, now0, before, now) = (now0, next0, now, next);
+        }
+        let v = sigma * sigma;
+        let noise = RegressorNoise {
+            noisy: 0,
+            variance: v,
+            with_target: [-v, 0.0, 0.0, -v],
+            unit: 2,
+            unit_value: 1.0,
+            paired: Some(PairedNoise {
+                index: 3,
+                variance: 2.0 * v,
+                covariance: v,
+                dynamics: [1.0, 1.0],
+            }),
+        };
+        (rls, noise, [a1 + a2 - 1.0, b, c, -a2])
+    }
+
+    #[test]
+    fn removes_the_bias_of_two_correlated_noisy_regressors() {
+        let (rls, noise, truth) = learn_second_order(0.15);
+        let ls = *rls.parameters();
+        let both = rls.bias_compensated(&noise).unwrap();
+        let one = rls
+            .bias_compensated(&RegressorNoise {
+                paired: None,
+                ..noise
+            })
+            .unwrap();
+        let error = |theta: &[f64; 4]| {
+            theta
+                .iter()
+                .zip(&truth)
+                .map(|(t, x)| (t - x).abs())
+                .fold(0.0, f64::max)
+        };
+        // The noise biases least squares; removing ω(k)'s alone leaves Δω(k−1)'s bias, both
+        // together bring every parameter close to the truth.
+        assert!(error(&ls) > 0.05, "LS {ls:?} vs {truth:?}");
+        assert!(error(&one) > 0.05, "one {one:?} vs {truth:?}");
+        assert!(
+            error(&both) < 0.2 * error(&one),
+            "both {both:?} vs {truth:?}"
+        );
+    }
+
+    #[test]
+    fn refuses_a_compensation_that_makes_the_rate_unstable() {
+        let (rls, noise, _) = learn_second_order(0.15);
+        let paired = noise.paired.unwrap();
+        // The same estimate read as a rate whose η is ten times the learnt one: |η| > 1.
+        let unstable = RegressorNoise {
+            paired: Some(PairedNoise {
+                dynamics: [1.0, 10.0],
+                ..paired
+            }),
+            ..noise
+        };
+        assert_eq!(
+            rls.bias_compensated(&unstable),
+            Err(NotCompensated::Unstable)
+        );
+        let same_regressor = RegressorNoise {
+            paired: Some(PairedNoise { index: 0, ..paired }),
+            ..noise
+        };
+        assert_eq!(
+            rls.bias_compensated(&same_regressor),
+            Err(NotCompensated::Unsupported)
+        );
+        let nan = RegressorNoise {
+            paired: Some(PairedNoise {
+                covariance: f64::NAN,
+                ..paired
+            }),
+            ..noise
+        };
+        assert_eq!(
+            rls.bias_compensated(&nan),
+            Err(NotCompensated::InvalidNoise)
+        );
+        assert!(stable_second_order(-0.05, -0.45));
+        assert!(!stable_second_order(0.05, -0.55));
+        assert!(!stable_second_order(0.0, 1.2));
+        assert!(!stable_second_order(f64::NAN, 0.0));
     }
 
     #[test]

@@ -60,7 +60,7 @@ mod view;
 
 pub use config::{Algorithm, RlsConfig};
 
-pub use errors_in_variables::{Compensation, NotCompensated, RegressorNoise};
+pub use errors_in_variables::{Compensation, NotCompensated, PairedNoise, RegressorNoise};
 use update::RlsSlices;
 use update::{ud_update_unrolled, UNROLLED_UP_TO};
 pub(crate) use update::{AllParameters, Measurement, ParameterSupport, Run, DENSE_SUMS_UP_TO};

@@ -192,6 +192,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const N: usize, co
             with_target,
             unit: noise.unit,
             unit_value: noise.unit_value,
+            paired: noise.paired,
         };
         outcome.record(self.rls.compensate(&noise));
         outcome

@@ -91,6 +91,11 @@ pub struct IdentifyOptions {
     /// three (`Q,R,P`) are each rate's.
     #[arg(long, default_value = "auto", value_parser = parse_gyro_noise)]
     pub gyro_noise: GyroNoise,
+    /// Which gyro noise the compensation removes: `damping` (the rate models' `ω(k)` term's,
+    /// the default) or `full` (the second-order term `Δω(k−1)`'s too; a rule whose rate it
+    /// would make unstable keeps its parameters). docs/full-compensation.md measures both.
+    #[arg(long, value_enum, default_value_t = GyroCompensationArg::Damping)]
+    pub gyro_compensation: GyroCompensationArg,
     /// The velocity the free run feeds the models: `model` (their own prediction, the
     /// whole identifier's free run) or `measured` (the measured velocity while the rates
     /// run free: the rate models' free run without the velocity model's error; the
@@ -125,6 +130,7 @@ impl IdentifyOptions {
             no_plots: self.no_plots,
             warm_start: self.warm_start,
             gyro_noise: self.gyro_noise,
+            gyro_compensation: self.gyro_compensation.into(),
             free_run_velocity: self.free_run_velocity.into(),
             observer_gain: self.observer_gain,
         }
@@ -182,6 +188,24 @@ impl From<FreeRunVelocityArg> for experiments::FreeRunVelocity {
 }
 
 /// `--gyro-noise`: `auto`, `none`, one σ (deg/s) or three (`Q,R,P`).
+/// `--gyro-compensation`'s values ([`rotorid::hover::GyroCompensation`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GyroCompensationArg {
+    /// The damping term's noise.
+    Damping,
+    /// The damping and the second-order terms' noise.
+    Full,
+}
+
+impl From<GyroCompensationArg> for rotorid::hover::GyroCompensation {
+    fn from(arg: GyroCompensationArg) -> Self {
+        match arg {
+            GyroCompensationArg::Damping => Self::Damping,
+            GyroCompensationArg::Full => Self::Full,
+        }
+    }
+}
+
 pub fn parse_gyro_noise(text: &str) -> Result<GyroNoise, String> {
     match text {
         "auto" => return Ok(GyroNoise::Auto),

@@ -65,6 +65,8 @@ pub struct IdentifyArgs {
     pub warm_start: Option<PathBuf>,
     /// What the free run's parameters are compensated for.
     pub gyro_noise: GyroNoise,
+    /// Which gyro noise the compensation removes.
+    pub gyro_compensation: rotorid::hover::GyroCompensation,
     /// The velocity the free run feeds the models.
     pub free_run_velocity: experiments::FreeRunVelocity,
     /// The one-step observer's gain.
@@ -89,6 +91,7 @@ impl IdentifyArgs {
             no_plots: false,
             warm_start: None,
             gyro_noise: GyroNoise::Auto,
+            gyro_compensation: rotorid::hover::GyroCompensation::Damping,
             free_run_velocity: experiments::FreeRunVelocity::Model,
             observer_gain: ObserverGain::Auto,
             control_delay_s: None,
@@ -490,6 +493,7 @@ pub fn identify_with(
         let settings = experiments::EvaluationSettings {
             window_s: window,
             gyro_noise,
+            gyro_compensation: args.gyro_compensation,
             velocity: args.free_run_velocity,
             observer_gain: match args.observer_gain {
                 ObserverGain::Auto => None,
@@ -581,6 +585,11 @@ pub fn identify_with(
         verification_samples: verification.len(),
         window_s: window,
         gyro_noise_deg_s: gyro_noise,
+        gyro_compensation: match args.gyro_compensation {
+            rotorid::hover::GyroCompensation::Full => "full",
+            _ => "damping",
+        }
+        .to_string(),
         free_run_velocity: args.free_run_velocity,
         states: report::state_labels(),
         variants: results,

@@ -314,6 +314,7 @@ fn run() -> Result<(), DemoError> {
         let settings = EvaluationSettings {
             window_s: FREE_RUN_S,
             gyro_noise,
+            gyro_compensation: rotorid::hover::GyroCompensation::Damping,
             velocity: FreeRunVelocity::Model,
             observer_gain: None,
             rate_hz: f64::from(rotorid_sim::flights::SAMPLE_RATE_HZ),

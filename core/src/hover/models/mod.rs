@@ -60,7 +60,7 @@ mod tests;
 mod velocity;
 
 pub use crate::hover::frame::{right_axis, rotor_axis, BodyFrame};
-pub use rate::{RateAxis, RateModel, RateStructure};
+pub use rate::{GyroCompensation, RateAxis, RateModel, RateStructure};
 pub use velocity::{VelocityModel, VelocityStructure};
 
 /// The identifier's speed-ups, in a private module so that nothing outside the crate can call
@@ -166,9 +166,10 @@ pub trait StateModel<T: Real>: sealed::StepParts<T> {
     /// Replaces the parameters by their estimates with the gyro noise's bias removed, for a
     /// model whose terms the noise biases (see [`RateModel::compensate`]); `gyro_noise`: the
     /// standard deviation of the white noise of each rate `[q r p]` (deg/s, finite, ≥ 0,
-    /// checked by the caller). Other models have nothing to compensate.
-    fn compensate(&mut self, gyro_noise: &[T; 3]) -> Compensation {
-        let _ = gyro_noise;
+    /// checked by the caller); `how`: which terms' noise. Other models have nothing to
+    /// compensate.
+    fn compensate(&mut self, gyro_noise: &[T; 3], how: GyroCompensation) -> Compensation {
+        let _ = (gyro_noise, how);
         Compensation::default()
     }
 }

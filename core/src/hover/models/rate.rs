@@ -3,7 +3,7 @@
 use crate::error::Error;
 use crate::hover::sample::{HoverSample, HoverState};
 use crate::learning::{Learning, TsEstimator};
-use crate::rls::{Compensation, RegressorNoise, RlsConfig};
+use crate::rls::{Compensation, PairedNoise, RegressorNoise, RlsConfig};
 use crate::rule_base::RuleBase;
 use crate::scalar::Real;
 use crate::ts::{Prepared, Scaling};
@@ -32,6 +32,23 @@ impl RateAxis {
             Self::Roll => 2,
         }
     }
+}
+
+/// Which gyro noise [`RateModel::compensate`] removes from a [`RateStructure::Flight`] model.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum GyroCompensation {
+    /// The noise of the damping term's `ω(k)` and its correlation with the target's and the
+    /// second-order term's (the default; see [`RateModel::gyro_noise`]).
+    #[default]
+    Damping,
+    /// [`Damping`](Self::Damping) and the second-order term's own noise: `Δω(k−1)` has
+    /// variance `2σ²` and covariance `σ²` with `ω(k)`'s. The consistent bias-compensated
+    /// estimate when the structure holds; a rule whose compensated rate would be unstable
+    /// keeps its parameters. Measured against the default in docs/full-compensation.md: it is
+    /// not better everywhere (the roll of both airframes loses a little).
+    Full,
 }
 
 /// Consequent structure of an angular model.
@@ -290,6 +307,14 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
     /// order in a rate that responds as a second-order system, and the noise's bias partly
     /// stands in for the missing term.
     pub fn gyro_noise(&self, sigma: T) -> Option<RegressorNoise<T, D>> {
+        self.gyro_noise_as(sigma, GyroCompensation::Damping)
+    }
+
+    /// [`gyro_noise`](Self::gyro_noise), with the second-order term's own noise as well for
+    /// [`GyroCompensation::Full`] (its variance `2σ²/S_η²`, its covariance `σ²/(S_δ S_η)`
+    /// with the damping term's, and the factors that turn the scaled δ and η into the rate's
+    /// own dynamics, so that an unstable compensation is refused).
+    pub fn gyro_noise_as(&self, sigma: T, how: GyroCompensation) -> Option<RegressorNoise<T, D>> {
         const DAMPING: usize = 2;
         const AFFINE: usize = 4;
         const SECOND_ORDER: usize = 6;
@@ -310,6 +335,15 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> RateMo
             with_target,
             unit: AFFINE,
             unit_value: T::one() / s_affine,
+            paired: match how {
+                GyroCompensation::Damping => None,
+                GyroCompensation::Full => Some(PairedNoise {
+                    index: SECOND_ORDER,
+                    variance: T::lit(2.0) * variance / (s_second * s_second),
+                    covariance: variance / (s_damping * s_second),
+                    dynamics: [scaling.target / s_damping, scaling.target / s_second],
+                }),
+            },
         })
     }
 
@@ -408,10 +442,10 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
         self.predict_in(from, &self.frame_for(from), &from.state(), next)
     }
 
-    /// Compensates the rules for the noise of this axis's gyro ([`gyro_noise`](Self::gyro_noise)).
-    fn compensate(&mut self, gyro_noise: &[T; 3]) -> Compensation {
+    /// Compensates the rules for the noise of this axis's gyro ([`gyro_noise_as`](Self::gyro_noise_as)).
+    fn compensate(&mut self, gyro_noise: &[T; 3], how: GyroCompensation) -> Compensation {
         let sigma = gyro_noise.get(self.axis.index()).copied();
-        match sigma.and_then(|sigma| self.gyro_noise(sigma)) {
+        match sigma.and_then(|sigma| self.gyro_noise_as(sigma, how)) {
             Some(noise) => self.ts.compensate(&noise),
             None => Compensation::default(),
         }

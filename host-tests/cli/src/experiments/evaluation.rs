@@ -2,7 +2,7 @@
 //! free-run errors, convergence, timing.
 
 use rotorid::convergence::ConvergenceMonitor;
-use rotorid::hover::{HoverSample, HoverState, Observer, RateNoise};
+use rotorid::hover::{GyroCompensation, HoverSample, HoverState, Observer, RateNoise};
 use serde::{Deserialize, Serialize};
 
 use rotorid_sim::flights::SAMPLE_RATE_HZ;
@@ -465,6 +465,8 @@ pub struct EvaluationSettings {
     /// σ of the gyro noise `[q r p]` (deg/s) the free run's and the observer's parameters are
     /// compensated for (`None`: the least-squares parameters).
     pub gyro_noise: Option<[f32; 3]>,
+    /// Which gyro noise the compensation removes.
+    pub gyro_compensation: GyroCompensation,
     /// The velocity the free runs feed the models.
     pub velocity: FreeRunVelocity,
     /// The one-step observer's gain per state `[v_x v_y v_z q r p]` (`None`: each variant's
@@ -561,7 +563,7 @@ pub fn evaluate(
     if let Some(sigma) = settings.gyro_noise {
         let mut simulated = id.boxed_clone();
         let c = simulated
-            .compensate(&sigma)
+            .compensate_with(&sigma, settings.gyro_compensation)
             .map_err(|source| EvaluateError::Compensate {
                 variant: variant.name,
                 source,

@@ -57,6 +57,10 @@ pub struct Metrics {
     /// (`None`: not compensated).
     #[serde(default)]
     pub gyro_noise_deg_s: Option<[f32; 3]>,
+    /// Which gyro noise the compensation removed: `damping` (the default) or `full`
+    /// (`--gyro-compensation`).
+    #[serde(default = "damping")]
+    pub gyro_compensation: String,
     /// The velocity the free runs fed the models (`model` unless
     /// `--free-run-velocity measured`).
     #[serde(default)]
@@ -218,3 +222,8 @@ mod no_figures;
 pub use figures::{write_figures, DrawError, FigureError};
 #[cfg(not(feature = "figures"))]
 pub use no_figures::{write_figures, FigureError};
+
+/// [`Metrics::gyro_compensation`] of metrics written before it was recorded.
+fn damping() -> String {
+    "damping".to_string()
+}
