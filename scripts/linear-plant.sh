@@ -118,7 +118,10 @@ lines += [
     "previous control, which the structure lacks: `η` and the control gain are then fitted to the identification "
     "sweeps' spectrum and do not carry to the verification doublets when nothing else limits the fit. This matches "
     "issue 32's report of p 1.24-1.38 times extended plain's on noise-free data of a linear hover model. The term "
-    "selection does not catch it: the check blocks are cut from the same sweeps.",
+    "selection does not catch it: the check blocks are cut from the same sweeps. docs/rate-orders.md "
+    "(`scripts/rate-orders.sh`) tests it by batch least squares on the core's terms: with `u(k−1)` the error-free "
+    "flybarless roll falls well below the extended structure's, but with the default sensors the same term makes p "
+    "worse on both airframes, so the structure keeps its terms.",
     "- With sample jitter and no noise the flybarless roll gap is smaller, and with the default sensors it is gone "
     "(the first table of each case).",
     "",

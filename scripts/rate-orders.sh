@@ -171,7 +171,10 @@ lines += [
     "model worse than the product's.",
     "- **So:** no single structure or compensation wins on both airframes in both noise conditions here, and a "
     "change would have to be chosen from the data per axis (as the term selection does), then judged in the "
-    "product's recursive estimator over the seed pairs, which this batch proxy does not replace.",
+    "product's recursive estimator over the seed pairs, which this batch proxy does not replace. "
+    "docs/full-compensation.md (`scripts/full-compensation.sh`, `rotorid identify --gyro-compensation full`) does "
+    "that for the full compensation without `u(k−1)`: in the product it helps q and r in most cases and costs p "
+    "in every one, so it stays an option.",
 ]
 with open(output, "w") as f:
     f.write("\n".join(lines) + "\n")
