@@ -157,32 +157,10 @@ enum Model {
 
 impl Model {
     fn new(axis: RateAxis, terms: Terms) -> Result<Self, rotorid::Error> {
-        let rules = RuleBase::single_rule()?;
-        let config = RlsConfig::default();
         Ok(match terms {
-            Terms::Extended => {
-                let structure = RateStructure::Extended;
-                let scaling = structure.helicopter_scaling(axis);
-                Self::Extended(RateModel::with_scaling(
-                    axis,
-                    rules,
-                    structure,
-                    Premise::Rates,
-                    config,
-                    scaling,
-                )?)
-            }
+            Terms::Extended => Self::Extended(one_rule(axis, RateStructure::Extended)?),
             Terms::Flight | Terms::FlightLagged => {
-                let structure = RateStructure::Flight;
-                let scaling = structure.helicopter_scaling(axis);
-                Self::Flight(RateModel::with_scaling(
-                    axis,
-                    rules,
-                    structure,
-                    Premise::Rates,
-                    config,
-                    scaling,
-                )?)
+                Self::Flight(one_rule(axis, RateStructure::Flight)?)
             }
         })
     }
@@ -202,6 +180,21 @@ impl Model {
             Self::Flight(m) => m.terms_in(sample, &frame, before).map(f64::from).to_vec(),
         }
     }
+}
+
+/// A one-rule model of `axis` with `structure`'s terms (D of them) and nominal scales.
+fn one_rule<const D: usize, const DP: usize>(
+    axis: RateAxis,
+    structure: RateStructure,
+) -> Result<LocalRateModel<f32, 1, D, DP>, rotorid::Error> {
+    RateModel::with_scaling(
+        axis,
+        RuleBase::single_rule()?,
+        structure,
+        Premise::Rates,
+        RlsConfig::default(),
+        structure.helicopter_scaling(axis),
+    )
 }
 
 /// The axis's control product (the core's `γ` term) of sample `s`.
