@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # docs/full-compensation.md: the rate models' gyro-noise compensation in the product, the
 # default (`--gyro-compensation damping`: the noise of the damping term ω(k)) against `full`
-# (the second-order term Δω(k−1)'s too, refused per rule where the compensated rate would be
-# unstable). For each airframe and seed pair k = 1..PAIRS (the pairs of docs/seeds.md) it flies
-# the hover and envelope pairs and runs `rotorid identify` with each, then reports the median
+# (the second-order term Δω(k−1)'s too, per rule where the data allow it and the compensated
+# rate stays stable; elsewhere the damping term's alone). For each airframe and seed pair
+# k = 1..PAIRS (the pairs of docs/seeds.md) it flies the hover and envelope pairs and runs
+# `rotorid identify` with each, then reports the median
 # and worst over the pairs of the flight default's free run over extended plain's and over
 # holding the measured state. docs/rate-orders.md is the batch-least-squares study behind it.
 # Usage: scripts/full-compensation.sh [PAIRS] [OUTPUT] (defaults 10, docs/full-compensation.md).
@@ -52,7 +53,8 @@ lines = [
     f"flight seed 100 + k, k = 1..{pairs}), each identified by `rotorid identify` with the default compensation of the "
     "rate models' gyro noise (`--gyro-compensation damping`: the noise of the damping term `ω(k)`) and with "
     "`--gyro-compensation full` (the second-order term `Δω(k−1)`'s too, its variance `2σ²` and covariance `σ²` with "
-    "`ω(k)`'s; a rule whose compensated rate would be unstable keeps its parameters; `HoverIdentifier::compensate_with`). "
+    "`ω(k)`'s, per rule where that noise is less than half the pair's information and the compensated rate stays "
+    "stable, elsewhere the damping term's alone; `HoverIdentifier::compensate_with`). "
     "Only the free runs' parameters change (the one-step predictions are the learnt ones). Each cell is **median / "
     "worst** over the pairs of the flight default's 2 s free-run mean absolute error divided by extended plain's "
     "(not compensated in either mode) or by holding the measured state. docs/rate-orders.md is the batch "

@@ -173,8 +173,9 @@ lines += [
     "change would have to be chosen from the data per axis (as the term selection does), then judged in the "
     "product's recursive estimator over the seed pairs, which this batch proxy does not replace. "
     "docs/full-compensation.md (`scripts/full-compensation.sh`, `rotorid identify --gyro-compensation full`) does "
-    "that for the full compensation without `u(k−1)`: in the product it helps q and r in most cases and costs p "
-    "in every one, so it stays an option.",
+    "that for the full compensation without `u(k−1)`, falling back to the product's where the pair is too noisy "
+    "or unstable: in the product it costs no rate in hover and helps q and r, and over the envelope it costs p, "
+    "so it stays an option.",
 ]
 with open(output, "w") as f:
     f.write("\n".join(lines) + "\n")

@@ -38,9 +38,10 @@
 //! `(I − N P_BB Σ_B) θ_B = (θ_LS − N P s)_B`, then `θ = θ_LS − N P s + N P_{·B} Σ_B θ_B`. The
 //! guard asks both eigenvalues of `N P_BB Σ_B` below ½ (`det(½I − K) > 0` and
 //! `tr(½I − K) > 0`, no square root), and the compensated rate's own dynamics
-//! `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` to stay stable
-//! ([`NotCompensated::Unstable`]): a noise correction that turns a damped rate into a growing
-//! one has amplified an estimate's error, not removed a bias.
+//! `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` to stay stable: a noise correction that turns a
+//! damped rate into a growing one has amplified an estimate's error, not removed a bias. Where
+//! either fails, j's noise alone is compensated (as without the pair), so that a pair never
+//! leaves a rule less compensated than j alone would.
 //!
 //! [`Rls::bias_compensated`] returns the parameters and changes nothing; [`Rls::compensate`]
 //! writes them into θ (P is kept).
@@ -80,7 +81,8 @@ pub struct PairedNoise<T> {
     pub covariance: T,
     /// `[f_j, f_m]`: the damping `δ = f_j θ_j` and the second-order coefficient `η = f_m θ_m`
     /// of the rate's own dynamics `ω(k+1) = (1 + δ + η) ω(k) − η ω(k−1)` (the target's scale
-    /// over each term's), which the compensated θ must keep stable.
+    /// over each term's), which the pair's compensation must keep stable (else j's noise
+    /// alone is compensated).
     pub dynamics: [T; 2],
 }
 
@@ -99,8 +101,6 @@ pub enum NotCompensated {
     TooNoisy,
     /// A factor entry or a result that is not finite, or a non-positive D entry.
     Numerical,
-    /// With a [`PairedNoise`]: the compensated rate's own dynamics are unstable.
-    Unstable,
 }
 
 /// What compensating a model's rules did ([`TsEstimator::compensate`](crate::learning::TsEstimator::compensate)).
@@ -219,8 +219,14 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         if share >= T::lit(0.5) {
             return Err(NotCompensated::TooNoisy);
         }
-        let theta = match noise.paired {
-            None => {
+        let paired = noise
+            .paired
+            .map(|m| self.paired_compensated(noise, &m, samples, &p_s, &p_j));
+        let theta = match paired {
+            Some(Some(theta)) => theta,
+            // j alone: without a pair, or where the pair is too noisy or its compensation
+            // unstable (the data determine j's correction, not m's).
+            _ => {
                 let theta_j = (at(&self.theta) - samples * at(&p_s)) / (T::one() - share);
                 let gain = samples * noise.variance * theta_j;
                 let mut theta = self.theta;
@@ -229,7 +235,6 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
                 }
                 theta
             }
-            Some(m) => self.paired_compensated(noise, &m, samples, &p_s, &p_j)?,
         };
         // Within the import bound: a compensated θ beyond it could make a later prediction
         // overflow after a step had written its update.
@@ -241,7 +246,8 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
     }
 
     /// θ compensated for two noisy regressors j and m (see the [module docs](self)), given
-    /// N, `P s` and `P e_j`.
+    /// N, `P s` and `P e_j`; `None` where the pair's noise share is too large or the result
+    /// unstable.
     fn paired_compensated(
         &self,
         noise: &RegressorNoise<T, N>,
@@ -249,7 +255,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         samples: T,
         p_s: &[T; N],
         p_j: &[T; N],
-    ) -> Result<[T; N], NotCompensated> {
+    ) -> Option<[T; N]> {
         let (j, m) = (noise.noisy, paired.index);
         let mut e_m = [T::zero(); N];
         if let Some(x) = e_m.get_mut(m) {
@@ -270,7 +276,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         let (h11, h22) = (half - k11, half - k22);
         let det_half = h11 * h22 - k12 * k21;
         if !(det_half.is_finite() && h11 + h22 > T::zero() && det_half > T::zero()) {
-            return Err(NotCompensated::TooNoisy);
+            return None;
         }
         // (I − K) θ_B = r.
         let (r1, r2) = (
@@ -288,10 +294,7 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
             *t = *t - samples * ps + gain_j * pj + gain_m * pm;
         }
         let [f_j, f_m] = paired.dynamics;
-        if !stable_second_order(f_j * at(&theta, j), f_m * at(&theta, m)) {
-            return Err(NotCompensated::Unstable);
-        }
-        Ok(theta)
+        stable_second_order(f_j * at(&theta, j), f_m * at(&theta, m)).then_some(theta)
     }
 }
 
@@ -494,21 +497,34 @@ mod tests {
     }
 
     #[test]
-    fn refuses_a_compensation_that_makes_the_rate_unstable() {
+    fn falls_back_to_one_regressor_where_the_pair_cannot_be_compensated() {
         let (rls, noise, _) = learn_second_order(0.15);
         let paired = noise.paired.unwrap();
-        // The same estimate read as a rate whose η is ten times the learnt one: |η| > 1.
-        let unstable = RegressorNoise {
-            paired: Some(PairedNoise {
-                dynamics: [1.0, 10.0],
-                ..paired
-            }),
-            ..noise
+        let alone = rls
+            .bias_compensated(&RegressorNoise {
+                paired: None,
+                ..noise
+            })
+            .unwrap();
+        // The same estimate read as a rate whose η is ten times the learnt one (|η| > 1,
+        // unstable), and a pair whose noise is as large as its whole spread: j alone.
+        let unstable = PairedNoise {
+            dynamics: [1.0, 10.0],
+            ..paired
         };
-        assert_eq!(
-            rls.bias_compensated(&unstable),
-            Err(NotCompensated::Unstable)
-        );
+        let loud = PairedNoise {
+            variance: 100.0,
+            ..paired
+        };
+        for pair in [unstable, loud] {
+            let theta = rls
+                .bias_compensated(&RegressorNoise {
+                    paired: Some(pair),
+                    ..noise
+                })
+                .unwrap();
+            assert_eq!(theta.map(f64::to_bits), alone.map(f64::to_bits));
+        }
         let same_regressor = RegressorNoise {
             paired: Some(PairedNoise { index: 0, ..paired }),
             ..noise

@@ -92,8 +92,9 @@ pub struct IdentifyOptions {
     #[arg(long, default_value = "auto", value_parser = parse_gyro_noise)]
     pub gyro_noise: GyroNoise,
     /// Which gyro noise the compensation removes: `damping` (the rate models' `ω(k)` term's,
-    /// the default) or `full` (the second-order term `Δω(k−1)`'s too; a rule whose rate it
-    /// would make unstable keeps its parameters). docs/full-compensation.md measures both.
+    /// the default) or `full` (the second-order term `Δω(k−1)`'s too, where the data allow
+    /// it and the rate stays stable; elsewhere the damping term's). docs/full-compensation.md
+    /// measures both.
     #[arg(long, value_enum, default_value_t = GyroCompensationArg::Damping)]
     pub gyro_compensation: GyroCompensationArg,
     /// The velocity the free run feeds the models: `model` (their own prediction, the

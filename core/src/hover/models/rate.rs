@@ -45,9 +45,10 @@ pub enum GyroCompensation {
     Damping,
     /// [`Damping`](Self::Damping) and the second-order term's own noise: `Δω(k−1)` has
     /// variance `2σ²` and covariance `σ²` with `ω(k)`'s. The consistent bias-compensated
-    /// estimate when the structure holds; a rule whose compensated rate would be unstable
-    /// keeps its parameters. Measured against the default in docs/full-compensation.md: it is
-    /// not better everywhere (the roll of both airframes loses a little).
+    /// estimate when the structure holds. A rule where the pair cannot be compensated (the
+    /// noise is half its information or more, or the compensated rate would be unstable)
+    /// gets [`Damping`](Self::Damping)'s compensation. Measured against the default in
+    /// docs/full-compensation.md.
     Full,
 }
 
