@@ -43,7 +43,9 @@ pub trait DynIdentifier<A: AttitudeInput<f32> = Attitude<f32>> {
 
     /// [`HoverIdentifier::compensate`]: the rate models' parameters with the bias of the gyros'
     /// white noise σ `[q r p]` (deg/s) removed.
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error>;
+    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
+        self.compensate_with(gyro_noise, GyroCompensation::Damping)
+    }
 
     /// [`HoverIdentifier::compensate_with`]: [`compensate`](Self::compensate), removing the
     /// noise `how` says.
@@ -107,9 +109,6 @@ where
     }
     fn resume(&mut self, sample: &HoverSample<f32, A>) -> Result<HoverState<f32>, Error> {
         HoverIdentifier::resume(self, sample)
-    }
-    fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<Compensation, Error> {
-        HoverIdentifier::compensate(self, gyro_noise)
     }
     fn compensate_with(
         &mut self,
