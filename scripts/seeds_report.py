@@ -28,7 +28,8 @@ def load(plant, k, regime, variation=None):
     verdict = data.get("verdict", {})
     if verdict.get("model") in variants:
         variants[CHOICE] = variants[verdict["model"]]
-    return variants, verdict.get("model"), verdict.get("terms_off", [])
+    return (variants, verdict.get("model"), verdict.get("terms_off", []),
+            verdict.get("full_compensation", []))
 
 
 def fmt(values, worst_is_max=True):
@@ -59,6 +60,7 @@ for plant, title in PLANTS:
         runs = [load(plant, k, regime) for k in range(1, pairs + 1)]
         ok = [r[:2] for r in runs if r is not None]
         off = [t for r in runs if r is not None for t in r[2]]
+        full = [a for r in runs if r is not None for a in r[3]]
         scored += len(ok)
         print()
         print(f"## {title}, {what}")
@@ -69,7 +71,11 @@ for plant, title in PLANTS:
         counts = sorted({t: off.count(t) for t in off}.items(), key=lambda kv: (-kv[1], kv[0]))
         print("Rules and terms the selection switched off (`flight selected`; `rules`: the model "
               f"has one rule; pairs out of {len(ok)}): "
-              + (", ".join(f"{t} {n}" for t, n in counts) or "none") + ".")
+              + (", ".join(f"{t} {n}" for t, n in counts) or "none") + ". "
+              "Rates it flies with the gyro noise compensated fully (the second-order term's "
+              "too) rather than the damping term's alone: "
+              + (", ".join(f"{a} {full.count(a)}" for a in ["q", "r", "p"] if a in full)
+                 or "none") + ".")
         for base, label in [("extended plain", "extended plain's"), (None, "holding the measured state")]:
             print()
             print(f"Free run ÷ {label} (median / worst over the pairs):")
@@ -106,7 +112,7 @@ def plant_row(plant, variation):
         hover, envelope = load(plant, k, "hover", variation), load(plant, k, "envelope", variation)
         if hover is None or envelope is None:
             continue
-        (hv, _, _), (ev, _, _) = hover, envelope
+        hv, ev = hover[0], envelope[0]
         if "flight" not in hv or "flight" not in ev:
             continue
         ratio = lambda vs, i: vs["flight"]["free_run"][i] / vs["extended plain"]["free_run"][i]

@@ -48,11 +48,21 @@ pub trait DynIdentifier<A: AttitudeInput<f32> = Attitude<f32>> {
     }
 
     /// [`HoverIdentifier::compensate_with`]: [`compensate`](Self::compensate), removing the
-    /// noise `how` says.
+    /// noise `how` says on every rate.
     fn compensate_with(
         &mut self,
         gyro_noise: &[f32; 3],
         how: GyroCompensation,
+    ) -> Result<Compensation, Error> {
+        self.compensate_each(gyro_noise, [how; 3])
+    }
+
+    /// [`HoverIdentifier::compensate_each`]: [`compensate`](Self::compensate), removing on
+    /// each rate `[q r p]` the noise its entry of `how` says.
+    fn compensate_each(
+        &mut self,
+        gyro_noise: &[f32; 3],
+        how: [GyroCompensation; 3],
     ) -> Result<Compensation, Error>;
 
     /// [`HoverIdentifier::reset`]: forgets everything learnt.
@@ -110,12 +120,12 @@ where
     fn resume(&mut self, sample: &HoverSample<f32, A>) -> Result<HoverState<f32>, Error> {
         HoverIdentifier::resume(self, sample)
     }
-    fn compensate_with(
+    fn compensate_each(
         &mut self,
         gyro_noise: &[f32; 3],
-        how: GyroCompensation,
+        how: [GyroCompensation; 3],
     ) -> Result<Compensation, Error> {
-        HoverIdentifier::compensate_with(self, gyro_noise, how)
+        HoverIdentifier::compensate_each(self, gyro_noise, how)
     }
     fn reset(&mut self) {
         HoverIdentifier::reset(self)

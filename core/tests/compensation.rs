@@ -5,7 +5,7 @@
 use crate::support::flight_log;
 
 use flight_log::flight_log;
-use rotorid::hover::{flight_sets, HoverSample, RateNoise};
+use rotorid::hover::{flight_sets, GyroCompensation, HoverSample, RateNoise};
 use rotorid::{Error, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier};
 
 /// The noise generator's seed of every log here.
@@ -92,4 +92,43 @@ fn only_the_flight_rate_structure_is_compensated() {
     let outcome = paper.compensate(&[0.3; 3]).unwrap();
     assert_eq!((outcome.compensated, outcome.refused), (0, 0));
     assert_eq!(paper, before);
+}
+
+/// The bits of θ and of the factor of every rule of one model's export.
+fn bits<const N: usize, const NP: usize>(rules: &[rotorid::rls::RlsState<f32, N, NP>]) -> Vec<u32> {
+    rules
+        .iter()
+        .flat_map(|r| r.theta.iter().chain(&r.factor))
+        .map(|x| x.to_bits())
+        .collect()
+}
+
+#[test]
+fn each_rate_takes_the_compensation_chosen_for_it() {
+    use GyroCompensation::{Damping, Full};
+    let noisy = trained(&flight_log(12_000, 0.3, SEED));
+    let sigma = [0.3; 3];
+    let with = |how: [GyroCompensation; 3]| {
+        let mut id = noisy.clone();
+        id.compensate_each(&sigma, how).unwrap();
+        id.export()
+    };
+    let (damping, full, mixed) = (
+        with([Damping; 3]),
+        with([Full; 3]),
+        with([Full, Damping, Damping]),
+    );
+    // The two compensations differ on pitch and roll (else this test could not fail; on
+    // yaw this flight's rules fall back to the damping term's)...
+    assert_ne!(bits(&full.pitch), bits(&damping.pitch));
+    assert_ne!(bits(&full.roll), bits(&damping.roll));
+    // ...and each rate of the mixed choice is bit for bit its own choice's.
+    assert_eq!(bits(&mixed.pitch), bits(&full.pitch));
+    assert_eq!(bits(&mixed.yaw), bits(&damping.yaw));
+    assert_eq!(bits(&mixed.roll), bits(&damping.roll));
+    assert_eq!(bits(&mixed.velocity), bits(&noisy.export().velocity));
+    // compensate_with is the same choice on every rate.
+    let mut uniform = noisy.clone();
+    uniform.compensate_with(&sigma, Full).unwrap();
+    assert_eq!(bits(&uniform.export().roll), bits(&full.roll));
 }

@@ -544,11 +544,22 @@ where
     }
 
     /// [`compensate`](Self::compensate), removing the noise `how` says
-    /// ([`GyroCompensation::Full`]: the second-order term's too).
+    /// ([`GyroCompensation::Full`]: the second-order term's too) on every rate.
     pub fn compensate_with(
         &mut self,
         gyro_noise: &[T; 3],
         how: GyroCompensation,
+    ) -> Result<Compensation, Error> {
+        self.compensate_each(gyro_noise, [how; 3])
+    }
+
+    /// [`compensate`](Self::compensate), removing on each rate `[q r p]` the noise its entry
+    /// of `how` says: the choice a selection made per axis from the data (a structure the
+    /// full compensation suits on one axis may not suit on another).
+    pub fn compensate_each(
+        &mut self,
+        gyro_noise: &[T; 3],
+        how: [GyroCompensation; 3],
     ) -> Result<Compensation, Error> {
         for &sigma in gyro_noise {
             if !sigma.is_finite() {
@@ -560,10 +571,10 @@ where
         }
         Ok(self
             .velocity
-            .compensate(gyro_noise, how)
-            .and(self.pitch.compensate(gyro_noise, how))
-            .and(self.yaw.compensate(gyro_noise, how))
-            .and(self.roll.compensate(gyro_noise, how)))
+            .compensate(gyro_noise, &how)
+            .and(self.pitch.compensate(gyro_noise, &how))
+            .and(self.yaw.compensate(gyro_noise, &how))
+            .and(self.roll.compensate(gyro_noise, &how)))
     }
 
     /// Forgets everything learnt: θ = 0, P = αI, no previous sample.

@@ -94,7 +94,8 @@ pub struct IdentifyOptions {
     /// Which gyro noise the compensation removes: `damping` (the rate models' `ω(k)` term's,
     /// the default) or `full` (the second-order term `Δω(k−1)`'s too, where the data allow
     /// it and the rate stays stable; elsewhere the damping term's). docs/full-compensation.md
-    /// measures both.
+    /// measures both. `flight selected` also chooses `full` per rate where its check blocks
+    /// predict better with it (docs/cli.md).
     #[arg(long, value_enum, default_value_t = GyroCompensationArg::Damping)]
     pub gyro_compensation: GyroCompensationArg,
     /// The velocity the free run feeds the models: `model` (their own prediction, the

@@ -127,6 +127,12 @@ pub struct Verdict {
     /// data support them all.
     #[serde(default)]
     pub terms_checked: bool,
+    /// The rates (`"q"`, `"r"`, `"p"`) whose parameters `flight selected` flies compensated
+    /// fully for the gyro noise (the second-order term's too), chosen on the same check
+    /// blocks as its terms (or asked for with `--gyro-compensation full`); the others get the
+    /// damping term's compensation.
+    #[serde(default)]
+    pub full_compensation: Vec<String>,
 }
 
 /// Geometric mean of free run / hold over the `scored` axes; `None` if any is not finite or
@@ -287,13 +293,31 @@ pub fn verdict(
     let terms_off = find("flight selected")
         .map(|v| TermMask::of_parameters(&v.parameters).describe())
         .unwrap_or_default();
+    let full_compensation: Vec<String> = find("flight selected")
+        .map(|v| {
+            ["q", "r", "p"]
+                .iter()
+                .zip(v.full_compensation)
+                .filter(|(_, full)| *full)
+                .map(|(axis, _)| axis.to_string())
+                .collect()
+        })
+        .unwrap_or_default();
     let why = if model == "flight selected" {
         let off = if terms_off.is_empty() {
             "none".to_string()
         } else {
             terms_off.join(", ")
         };
-        format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed)")
+        let full = if full_compensation.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; {} flown with the gyro noise compensated fully (the second-order term's too), which predicted the check blocks better",
+                full_compensation.join(", ")
+            )
+        };
+        format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed){full}")
     } else {
         why
     };
@@ -303,6 +327,7 @@ pub fn verdict(
         why,
         terms_off,
         terms_checked,
+        full_compensation,
         axes,
         scores,
         caveats,

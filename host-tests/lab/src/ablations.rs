@@ -10,7 +10,7 @@ use rotorid::hover::{
 use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{FlightIdentifier, HoverConfig};
 use rotorid_cli::experiments::{
-    at, masked_flight, pin_to_zero, select_terms_with, Identifier, Variant,
+    at, pin_to_zero, select_terms_with, Identifier, SelectedFlight, Variant,
 };
 
 /// The product's catalogue ([`rotorid_cli::experiments::variants`]) followed by the
@@ -57,7 +57,7 @@ fn selected_asking(
     period: u32,
 ) -> Result<Box<dyn Identifier>, rotorid::Error> {
     let selection = select_terms_with(training, period, Some(k))?;
-    Ok(Box::new(masked_flight(selection.mask, period)?))
+    Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
 }
 
 /// The ablations of the flight default.

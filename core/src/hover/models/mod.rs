@@ -166,9 +166,9 @@ pub trait StateModel<T: Real>: sealed::StepParts<T> {
     /// Replaces the parameters by their estimates with the gyro noise's bias removed, for a
     /// model whose terms the noise biases (see [`RateModel::compensate`]); `gyro_noise`: the
     /// standard deviation of the white noise of each rate `[q r p]` (deg/s, finite, ≥ 0,
-    /// checked by the caller); `how`: which terms' noise. Other models have nothing to
-    /// compensate.
-    fn compensate(&mut self, gyro_noise: &[T; 3], how: GyroCompensation) -> Compensation {
+    /// checked by the caller); `how`: which terms' noise, per rate `[q r p]` (a rate model
+    /// reads its own axis's). Other models have nothing to compensate.
+    fn compensate(&mut self, gyro_noise: &[T; 3], how: &[GyroCompensation; 3]) -> Compensation {
         let _ = (gyro_noise, how);
         Compensation::default()
     }

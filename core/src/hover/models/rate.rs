@@ -444,9 +444,13 @@ impl<T: Real, const R: usize, const D: usize, E: TsEstimator<T, 3, R, D>> StateM
     }
 
     /// Compensates the rules for the noise of this axis's gyro ([`gyro_noise_as`](Self::gyro_noise_as)).
-    fn compensate(&mut self, gyro_noise: &[T; 3], how: GyroCompensation) -> Compensation {
-        let sigma = gyro_noise.get(self.axis.index()).copied();
-        match sigma.and_then(|sigma| self.gyro_noise_as(sigma, how)) {
+    fn compensate(&mut self, gyro_noise: &[T; 3], how: &[GyroCompensation; 3]) -> Compensation {
+        let axis = self.axis.index();
+        let (sigma, how) = (gyro_noise.get(axis).copied(), how.get(axis).copied());
+        match sigma
+            .zip(how)
+            .and_then(|(sigma, how)| self.gyro_noise_as(sigma, how))
+        {
             Some(noise) => self.ts.compensate(&noise),
             None => Compensation::default(),
         }

@@ -13,7 +13,8 @@ use rotorid::{
     PaperPlainIdentifier,
 };
 
-use super::selection::{masked_flight, select_terms};
+use super::selected::SelectedFlight;
+use super::selection::select_terms;
 use super::variants::{at, Variant};
 
 /// The identifier variants `rotorid identify` compares. The first two are Table 4's columns.
@@ -107,7 +108,7 @@ pub fn variants() -> Vec<Variant> {
             kind: Some(FlightIdentifier::<f32>::KIND),
             build: |training, period| {
                 let selection = select_terms(training, period)?;
-                Ok(Box::new(masked_flight(selection.mask, period)?))
+                Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
             },
         },
     ]

@@ -181,6 +181,11 @@ pub struct VariantResult {
     /// as they were.
     #[serde(default)]
     pub compensated_rules: [u16; 2],
+    /// The rates `[q r p]` compensated fully ([`GyroCompensation::Full`]: the second-order
+    /// term's noise too) rather than the damping term's alone, as the tool was asked or the
+    /// variant chose from its training data; all false when nothing was compensated.
+    #[serde(default)]
+    pub full_compensation: [bool; 3],
     /// The gain `K` per state of the variant's one-step observer
     /// ([`rotorid::hover::Observer`]), found on the training logs ([`observer_gain`]) with the
     /// free run's parameters.
@@ -560,14 +565,18 @@ pub fn evaluate(
     // the observer's.
     let mut compensated_rules = [0; 2];
     let mut compensated = None;
+    let mut full_compensation = [false; 3];
     if let Some(sigma) = settings.gyro_noise {
+        let how = id.compensation(settings.gyro_compensation);
+        full_compensation = how.map(|h| h == GyroCompensation::Full);
         let mut simulated = id.boxed_clone();
-        let c = simulated
-            .compensate_with(&sigma, settings.gyro_compensation)
-            .map_err(|source| EvaluateError::Compensate {
-                variant: variant.name,
-                source,
-            })?;
+        let c =
+            simulated
+                .compensate_each(&sigma, how)
+                .map_err(|source| EvaluateError::Compensate {
+                    variant: variant.name,
+                    source,
+                })?;
         compensated_rules = [c.compensated, c.refused];
         if c.compensated > 0 {
             compensated = Some(simulated);
@@ -607,6 +616,7 @@ pub fn evaluate(
         free_run: free.error,
         free_run_least_squares,
         compensated_rules,
+        full_compensation,
         observer_gain: observer.gain(),
         one_step_observed,
         one_step_unit_gain,

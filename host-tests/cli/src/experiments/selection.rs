@@ -42,7 +42,7 @@
 //! rate's control gain `γ` and damping `δ`.
 
 use rotorid::hover::{
-    flight_sets, unscheduled_sets, HoverSample, RateStructure, VelocityStructure,
+    flight_sets, unscheduled_sets, GyroCompensation, HoverSample, RateStructure, VelocityStructure,
 };
 use rotorid::rls::RlsState;
 use rotorid::{FlightIdentifier, HoverConfig};
@@ -92,6 +92,12 @@ pub struct TermMask {
     /// ([`unscheduled_sets`]).
     #[serde(default)]
     pub one_rule: [bool; 4],
+    /// Per model, whether its free run and observer fly the parameters compensated for the
+    /// gyro noise fully ([`GyroCompensation::Full`]: the second-order term's noise too)
+    /// rather than the damping term's alone (only the rate models'; the velocity's is always
+    /// false).
+    #[serde(default)]
+    pub full_compensation: [bool; 4],
 }
 
 impl TermMask {
@@ -121,6 +127,25 @@ impl TermMask {
     /// Whether model `model` has one rule.
     pub fn has_one_rule(&self, model: usize) -> bool {
         self.one_rule.get(model).copied().unwrap_or(false)
+    }
+
+    /// This mask with model `model`'s gyro noise compensated fully.
+    fn with_full_compensation(mut self, model: usize) -> Self {
+        if let Some(full) = self.full_compensation.get_mut(model) {
+            *full = true;
+        }
+        self
+    }
+
+    /// The compensation of each rate `[q r p]` ([`HoverIdentifier::compensate_each`]'s order).
+    ///
+    /// [`HoverIdentifier::compensate_each`]: rotorid::HoverIdentifier::compensate_each
+    pub fn compensation(&self) -> [GyroCompensation; 3] {
+        // The rate models are models 1, 2, 3 in [`MODELS`]: q, r, p.
+        core::array::from_fn(|axis| match self.full_compensation.get(axis + 1) {
+            Some(true) => GyroCompensation::Full,
+            _ => GyroCompensation::Damping,
+        })
     }
 
     /// The names of the terms that are off, per model (`"r: 𝕀|v|"`, …), a model with one rule
@@ -295,8 +320,9 @@ pub(super) fn score(
         train(&mut id, &split.learn, &mut || {});
         if let Some(sigma) = gyro_noise {
             // As the tool's verification does: the free run flies the parameters compensated
-            // for the gyro noise; a refused compensation leaves the least-squares ones.
-            let _ = id.compensate(&sigma);
+            // for the gyro noise, on each rate as the mask says; a refused compensation
+            // leaves the least-squares ones.
+            let _ = id.compensate_each(&sigma, mask.compensation());
         }
         for block in &split.check {
             let run = free_run(&id, block, window, FreeRunVelocity::Model);
@@ -485,6 +511,18 @@ pub fn select_terms_with(
                 _ => break,
             }
         }
+        // Then a rate's compensation, after its terms: it changes what the second-order
+        // term's estimate means. Full replaces the damping term's only if it predicts
+        // better (ties go to the default).
+        if m > 0 && gyro_noise.is_some() {
+            let candidate = mask.with_full_compensation(m);
+            let full = score(candidate, &folds, period_us, window, gyro_noise)?;
+            selection.candidates += 1;
+            if full.key(m).1.is_finite() && full.key(m) < current.key(m) {
+                mask = candidate;
+                current = full;
+            }
+        }
     }
     selection.mask = mask;
     selection.selected = current.ratios;
@@ -561,12 +599,15 @@ mod tests {
     }
 
     /// The velocity model is selected first and nothing selected later enters its free run
-    /// (the rates' models do not feed it), so its cross-validated score can only improve.
+    /// (the rates' models do not feed it), so its cross-validated score can only improve. A
+    /// rate flown with the full compensation predicts its check blocks strictly better than
+    /// with the damping term's alone, the rest of the choice unchanged.
     #[test]
     fn the_selection_never_worsens_the_velocity_models_cross_validated_score() {
         let log = rotorid_sim::flights::identification_flight_for(3, 75.0).unwrap();
         let samples = rotorid_sim::flights::to_hover_samples(&log);
-        let selection = select_terms(&[samples], 20_000).unwrap();
+        let training = [samples];
+        let selection = select_terms(&training, 20_000).unwrap();
         assert!(selection.candidates > 1, "{selection:?}");
         assert!(
             model_score(&selection.selected, 0) <= model_score(&selection.full, 0),
@@ -574,6 +615,25 @@ mod tests {
         );
         // Every held-out sample was checked once: the folds cover the data.
         assert_eq!(selection.samples.1, 75 * 50);
+        let mask = selection.mask;
+        assert!(
+            !mask.full_compensation[0],
+            "the velocity model has no gyro noise"
+        );
+        // On this flight the choice is made (q's, at this commit): the check below has
+        // something to check.
+        assert!(mask.full_compensation.contains(&true), "{selection:?}");
+        let window = window_samples(50.0);
+        let block = block_length(75 * 50, 50.0, window).unwrap();
+        let folds: Vec<Split> = (0..FOLDS).map(|f| split(&training, block, f)).collect();
+        let noise = gyro_noise_of(&training);
+        let chosen = score(mask, &folds, 20_000, window, noise).unwrap();
+        for m in (1..4).filter(|&m| mask.full_compensation[m]) {
+            let mut damping = mask;
+            damping.full_compensation[m] = false;
+            let without = score(damping, &folds, 20_000, window, noise).unwrap();
+            assert!(chosen.key(m) < without.key(m), "{m}: {selection:?}");
+        }
     }
 
     #[test]

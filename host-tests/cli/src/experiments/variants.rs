@@ -2,8 +2,8 @@
 //! with parameter export/import as plain data.
 
 use rotorid::hover::{
-    GainSearch, HoverConfig, HoverIdentifier, HoverSample, HoverSnapshot, HoverState, Observer,
-    Premise, StateModel,
+    GainSearch, GyroCompensation, HoverConfig, HoverIdentifier, HoverSample, HoverSnapshot,
+    HoverState, Observer, Premise, StateModel,
 };
 use rotorid::membership::MembershipFunction;
 use rotorid::rls::{Algorithm, RlsState};
@@ -36,6 +36,12 @@ pub trait Identifier: DynIdentifier {
         search: &mut ObserverSearch,
         sample: &HoverSample<f32>,
     ) -> Result<(), rotorid::Error>;
+    /// The compensation of each rate `[q r p]` ([`DynIdentifier::compensate_each`]) when the
+    /// tool is asked for `how`: `how` on every rate, unless the variant chose otherwise from
+    /// its training data ([`SelectedFlight`](super::SelectedFlight)).
+    fn compensation(&self, how: GyroCompensation) -> [GyroCompensation; 3] {
+        [how; 3]
+    }
 }
 
 /// Candidate gains of the observer's search: 0.1, 0.2, …, 1.0 ([`GainSearch::grid`]).
