@@ -18,6 +18,19 @@
 #include <stdint.h>
 
 /**
+ * `rotorid_compensate_each`'s choice for a rate: the damping term's noise, as
+ * `rotorid_compensate` (`rotorid::hover::GyroCompensation::Damping`).
+ */
+#define ROTORID_COMPENSATION_DAMPING 0
+
+/**
+ * `rotorid_compensate_each`'s choice for a rate: the damping and the second-order terms'
+ * noise (`rotorid::hover::GyroCompensation::Full`; a rule where the pair cannot be
+ * compensated gets the damping term's).
+ */
+#define ROTORID_COMPENSATION_FULL 1
+
+/**
  * Success.
  */
 #define ROTORID_OK 0
@@ -125,6 +138,12 @@
  * A gyro noise σ given to `rotorid_compensate` is not finite, or not in [0, 2000] deg/s.
  */
 #define ROTORID_E_CONFIG_GYRO_NOISE 23
+
+/**
+ * A choice given to `rotorid_compensate_each` is not a `ROTORID_COMPENSATION_*` (`index`:
+ * its rate, 0 q, 1 r, 2 p).
+ */
+#define ROTORID_E_CONFIG_GYRO_COMPENSATION 24
 
 /**
  * Neither slot holds a valid persistence record (erased, torn, never written): start afresh.
@@ -588,7 +607,7 @@ typedef struct {
   uint32_t quantity;
   /**
    * Index within the quantity (axis, control, entry); CONFIG_OBSERVER_GAIN: the gain's
-   * state or candidate.
+   * state or candidate; CONFIG_GYRO_COMPENSATION: the rate (0 q, 1 r, 2 p).
    */
   uint32_t index;
   /**
@@ -886,6 +905,26 @@ int32_t rotorid_compensate(rotorid_ident_t *h,
                            const float *gyro_noise,
                            uint32_t *compensated,
                            rotorid_error_t *error);
+
+/**
+ * `rotorid_compensate` with a choice per rate (`rotorid::HoverIdentifier::compensate_each`):
+ * `how`, 3 codes for q, r, p, each `ROTORID_COMPENSATION_DAMPING` or
+ * `ROTORID_COMPENSATION_FULL`; `rotorid identify` names the rates its `flight selected` flies
+ * fully compensated (`metrics.json`'s `verdict.full_compensation`).
+ *
+ * Required: `h`, `gyro_noise`, `how`. Optional: `compensated`, `error`.
+ * Codes: those of `rotorid_compensate`, and CONFIG_GYRO_COMPENSATION (`index`: the rate
+ * whose code is not a `ROTORID_COMPENSATION_*`). On an error: only `*error`; the identifier
+ * and `*compensated` are unchanged.
+ *
+ * # Safety
+ * As `rotorid_compensate`; `how` is NULL or points to 3 `uint32_t`.
+ */
+int32_t rotorid_compensate_each(rotorid_ident_t *h,
+                                const float *gyro_noise,
+                                const uint32_t *how,
+                                uint32_t *compensated,
+                                rotorid_error_t *error);
 
 /**
  * The settings of an identifier (as given to `rotorid_init`) and its kind.

@@ -1,6 +1,6 @@
 //! The calls on a prepared identifier: step, predict, resume, reset, info, export, import.
 
-use rotorid::hover::{AnyAttitude, AttitudeInput};
+use rotorid::hover::{AnyAttitude, AttitudeInput, GyroCompensation};
 use rotorid::{DynIdentifier, Error, HoverSample, HoverState, Quantity};
 
 use crate::error::*;
@@ -212,22 +212,95 @@ pub unsafe extern "C" fn rotorid_compensate(
 ) -> i32 {
     // SAFETY: the caller's contract.
     unsafe {
-        let result = (|| {
-            let sigma = get(gyro_noise.cast::<[f32; 3]>())?;
-            let outcome = ident_mut(h)?.compensate(&sigma).map_err(|e| match e {
-                // The core names σ a configuration value; here it has its own code.
-                Error::NonFinite(Quantity::Config) | Error::OutOfRange(Quantity::Config) => {
-                    rotorid_error_t::interface(ROTORID_E_CONFIG_GYRO_NOISE)
-                }
-                e => e.into(),
-            })?;
-            if !compensated.is_null() {
-                put(compensated, u32::from(outcome.compensated))?;
-            }
-            Ok(())
-        })();
-        report(result, error)
+        report(
+            compensate_as(
+                h,
+                gyro_noise,
+                Ok([GyroCompensation::Damping; 3]),
+                compensated,
+            ),
+            error,
+        )
     }
+}
+
+/// `rotorid_compensate_each`'s choice for a rate: the damping term's noise, as
+/// `rotorid_compensate` (`rotorid::hover::GyroCompensation::Damping`).
+pub const ROTORID_COMPENSATION_DAMPING: u32 = 0;
+/// `rotorid_compensate_each`'s choice for a rate: the damping and the second-order terms'
+/// noise (`rotorid::hover::GyroCompensation::Full`; a rule where the pair cannot be
+/// compensated gets the damping term's).
+pub const ROTORID_COMPENSATION_FULL: u32 = 1;
+
+/// `rotorid_compensate` with a choice per rate (`rotorid::HoverIdentifier::compensate_each`):
+/// `how`, 3 codes for q, r, p, each `ROTORID_COMPENSATION_DAMPING` or
+/// `ROTORID_COMPENSATION_FULL`; `rotorid identify` names the rates its `flight selected` flies
+/// fully compensated (`metrics.json`'s `verdict.full_compensation`).
+///
+/// Required: `h`, `gyro_noise`, `how`. Optional: `compensated`, `error`.
+/// Codes: those of `rotorid_compensate`, and CONFIG_GYRO_COMPENSATION (`index`: the rate
+/// whose code is not a `ROTORID_COMPENSATION_*`). On an error: only `*error`; the identifier
+/// and `*compensated` are unchanged.
+///
+/// # Safety
+/// As `rotorid_compensate`; `how` is NULL or points to 3 `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_compensate_each(
+    h: *mut rotorid_ident_t,
+    gyro_noise: *const f32,
+    how: *const u32,
+    compensated: *mut u32,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let how = get(how.cast::<[u32; 3]>()).and_then(|codes| {
+            let mut choice = [GyroCompensation::Damping; 3];
+            for (index, (c, &code)) in choice.iter_mut().zip(&codes).enumerate() {
+                *c = match code {
+                    ROTORID_COMPENSATION_DAMPING => GyroCompensation::Damping,
+                    ROTORID_COMPENSATION_FULL => GyroCompensation::Full,
+                    _ => {
+                        return Err(rotorid_error_t {
+                            index: index as u32,
+                            ..rotorid_error_t::interface(ROTORID_E_CONFIG_GYRO_COMPENSATION)
+                        })
+                    }
+                };
+            }
+            Ok(choice)
+        });
+        report(compensate_as(h, gyro_noise, how, compensated), error)
+    }
+}
+
+/// The body of `rotorid_compensate` and `rotorid_compensate_each`: `how` is the choice per
+/// rate, or the error reading it gave (reported after σ's and the handle's checks).
+///
+/// # Safety
+/// As `rotorid_compensate`.
+unsafe fn compensate_as(
+    h: *mut rotorid_ident_t,
+    gyro_noise: *const f32,
+    how: Result<[GyroCompensation; 3], rotorid_error_t>,
+    compensated: *mut u32,
+) -> Result<(), rotorid_error_t> {
+    // SAFETY: the caller's contract.
+    let sigma = unsafe { get(gyro_noise.cast::<[f32; 3]>()) }?;
+    // SAFETY: the caller's contract.
+    let id = unsafe { ident_mut(h) }?;
+    let outcome = id.compensate_each(&sigma, how?).map_err(|e| match e {
+        // The core names σ a configuration value; here it has its own code.
+        Error::NonFinite(Quantity::Config) | Error::OutOfRange(Quantity::Config) => {
+            rotorid_error_t::interface(ROTORID_E_CONFIG_GYRO_NOISE)
+        }
+        e => e.into(),
+    })?;
+    if !compensated.is_null() {
+        // SAFETY: the caller's contract.
+        unsafe { put(compensated, u32::from(outcome.compensated)) }?;
+    }
+    Ok(())
 }
 
 /// The settings of an identifier (as given to `rotorid_init`) and its kind.

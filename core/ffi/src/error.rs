@@ -57,6 +57,9 @@ pub const ROTORID_E_CONFIG_ALGORITHM: i32 = 21;
 pub const ROTORID_E_CONFIG_SCALING: i32 = 22;
 /// A gyro noise σ given to `rotorid_compensate` is not finite, or not in [0, 2000] deg/s.
 pub const ROTORID_E_CONFIG_GYRO_NOISE: i32 = 23;
+/// A choice given to `rotorid_compensate_each` is not a `ROTORID_COMPENSATION_*` (`index`:
+/// its rate, 0 q, 1 r, 2 p).
+pub const ROTORID_E_CONFIG_GYRO_COMPENSATION: i32 = 24;
 // --- `rotorid::record::RecordError` (rotorid_record_read) ---
 /// Neither slot holds a valid persistence record (erased, torn, never written): start afresh.
 pub const ROTORID_E_NO_RECORD: i32 = 30;
@@ -134,7 +137,7 @@ pub struct rotorid_error_t {
     /// `ROTORID_QUANTITY_*` of a NON_FINITE or OUT_OF_RANGE value.
     pub quantity: u32,
     /// Index within the quantity (axis, control, entry); CONFIG_OBSERVER_GAIN: the gain's
-    /// state or candidate.
+    /// state or candidate; CONFIG_GYRO_COMPENSATION: the rate (0 q, 1 r, 2 p).
     pub index: u32,
     /// TIME_STEP: measured interval (µs).
     pub dt_us: u64,
@@ -303,6 +306,7 @@ pub extern "C" fn rotorid_error_name(code: i32) -> *const core::ffi::c_char {
         ROTORID_E_CONFIG_ALGORITHM => c"ROTORID_E_CONFIG_ALGORITHM",
         ROTORID_E_CONFIG_SCALING => c"ROTORID_E_CONFIG_SCALING",
         ROTORID_E_CONFIG_GYRO_NOISE => c"ROTORID_E_CONFIG_GYRO_NOISE",
+        ROTORID_E_CONFIG_GYRO_COMPENSATION => c"ROTORID_E_CONFIG_GYRO_COMPENSATION",
         ROTORID_E_NO_RECORD => c"ROTORID_E_NO_RECORD",
         ROTORID_E_RECORD_VERSION => c"ROTORID_E_RECORD_VERSION",
         ROTORID_E_RECORD_KIND => c"ROTORID_E_RECORD_KIND",

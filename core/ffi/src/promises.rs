@@ -405,6 +405,88 @@ fn configuration_errors_have_config_codes() {
     }
 }
 
+/// `rotorid_compensate_each` is the core's `compensate_each`, bit for bit; with the damping
+/// term's choice on every rate it is `rotorid_compensate`; a choice that is not a
+/// `ROTORID_COMPENSATION_*` is refused (its rate in `index`) and changes nothing.
+#[test]
+fn a_compensation_per_rate_is_the_cores_and_a_bad_choice_changes_nothing() {
+    use rotorid::hover::GyroCompensation::{Damping, Full};
+    // `sample`'s flight with rates that respond to its sticks (damped second-order
+    // dynamics: a pure sinusoid would be marginally stable, which the full compensation
+    // refuses) and gyro noise: uniform, ±0.3 deg/s, from a xorshift generator.
+    let trained = || {
+        let mut id = Prepared::new(ROTORID_KIND_FLIGHT);
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let (mut rate, mut before) = ([0.0f32; 3], [0.0f32; 3]);
+        for k in 0..3000 {
+            let mut s = sample(k);
+            let [_, ped, lon, lat] = s.controls;
+            for ((w, b), u) in rate.iter_mut().zip(&mut before).zip([lon, ped, lat]) {
+                let next = 1.6 * *w - 0.7 * *b + 20.0 * u;
+                (*b, *w) = (*w, next);
+            }
+            for (measured, &w) in s.rates.iter_mut().zip(&rate) {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                *measured = w + 0.6 * ((x >> 40) as f32 / (1u64 << 24) as f32 - 0.5);
+            }
+            let mut out = rotorid_step_output_t::default();
+            // SAFETY: valid pointers.
+            let rc = unsafe { rotorid_step(id.h(), &s, &mut out, null_mut()) };
+            assert_eq!(rc, ROTORID_OK);
+        }
+        id
+    };
+    // The noise's σ: 0.6/√12 deg/s.
+    let sigma = [0.17f32; 3];
+    let (full, damping) = (ROTORID_COMPENSATION_FULL, ROTORID_COMPENSATION_DAMPING);
+    let each = |id: &mut Prepared, how: [u32; 3], err: &mut rotorid_error_t| {
+        let mut count = 99u32;
+        // SAFETY: valid pointers.
+        let rc = unsafe {
+            rotorid_compensate_each(id.h(), sigma.as_ptr(), how.as_ptr(), &mut count, err)
+        };
+        (rc, count)
+    };
+    let mut err = rotorid_error_t::default();
+    let mut mixed = trained();
+    let (rc, count) = each(&mut mixed, [full, damping, full], &mut err);
+    assert_eq!(rc, ROTORID_OK);
+    assert!(count > 0 && count < 99, "{count}");
+    let mut core = trained();
+    // SAFETY: a handle from rotorid_init.
+    let id = unsafe { ident_mut(core.h()) }.unwrap();
+    id.compensate_each(&sigma, [Full, Damping, Full]).unwrap();
+    assert_eq!(mixed.export(), core.export());
+
+    let mut all_damping = trained();
+    assert_eq!(each(&mut all_damping, [damping; 3], &mut err).0, ROTORID_OK);
+    let mut plain = trained();
+    // SAFETY: valid pointers.
+    let rc = unsafe { rotorid_compensate(plain.h(), sigma.as_ptr(), null_mut(), null_mut()) };
+    assert_eq!(rc, ROTORID_OK);
+    assert_eq!(all_damping.export(), plain.export());
+    // The choice matters on this flight (else the checks above could not fail).
+    assert!(mixed.export() != all_damping.export());
+
+    let mut refused = trained();
+    let before = refused.bytes();
+    let (rc, count) = each(&mut refused, [damping, 2, full], &mut err);
+    assert_eq!((rc, count), (ROTORID_E_CONFIG_GYRO_COMPENSATION, 99));
+    assert_eq!(
+        (err.code, err.index),
+        (ROTORID_E_CONFIG_GYRO_COMPENSATION, 1)
+    );
+    assert_eq!(refused.bytes(), before);
+    // SAFETY: valid pointers but `how`, which is NULL.
+    let rc = unsafe {
+        rotorid_compensate_each(refused.h(), sigma.as_ptr(), null(), null_mut(), null_mut())
+    };
+    assert_eq!(rc, ROTORID_E_NULL);
+    assert_eq!(refused.bytes(), before);
+}
+
 /// `rotorid_init_flight_per_model`: four times the unscheduled sets is the plain kind bit
 /// for bit, four times the defaults is `rotorid_init_flight`; NULL sets and bad sets are
 /// refused without writing the storage.
