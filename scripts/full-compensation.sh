@@ -100,7 +100,9 @@ lines += [
     "",
     "The default stays `damping`: `full` is not better on every rate of both airframes (the table above), and a "
     "change of the product's default needs the same over the plant variations and the real and SITL logs. "
-    "`--gyro-compensation full` is there to try it on a helicopter.",
+    "`--gyro-compensation full` is there to try it on a helicopter, and `flight selected` chooses it per "
+    "rate where its training data's held-out blocks predict better with it (docs/cli.md, "
+    "docs/ab-selected-compensation.md).",
 ]
 with open(output, "w") as f:
     f.write("\n".join(lines) + "\n")

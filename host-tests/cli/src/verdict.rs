@@ -313,7 +313,7 @@ pub fn verdict(
             String::new()
         } else {
             format!(
-                "; {} flown with the gyro noise compensated fully (the second-order term's too), which predicted the check blocks better",
+                "; {} flown with the gyro noise compensated fully (the second-order term's too: where it predicted the held-out blocks better, or as --gyro-compensation asked)",
                 full_compensation.join(", ")
             )
         };
