@@ -24,23 +24,16 @@ cargo build -q --release -p rotorid-cli --bin rotorid
 bin="$CARGO_TARGET_DIR/release/rotorid"
 # BASE's binary, in a worktree and a target directory of its own (kept: the next comparison
 # against the same base builds nothing).
-base_rev=$(git rev-parse --short "$base")
-tree=$(mktemp -d)
-git worktree add -q --detach "$tree" "$base_rev"
-trap 'git worktree remove --force "$tree"' EXIT
-(cd "$tree" && CARGO_TARGET_DIR="$root/target/ab-base" cargo build -q --release -p rotorid-cli --bin rotorid)
-base_bin="$root/target/ab-base/release/rotorid"
-if [ -n "${SEEDS_WORK:-}" ]; then
-  work=$(realpath -m "$SEEDS_WORK")
-  mkdir -p "$work"
-else
-  work=$(mktemp -d)
-  trap 'git worktree remove --force "$tree"; rm -rf "$work"' EXIT
-fi
-start=$(date +%s)
-
 # shellcheck source=scripts/lib/pairs.sh
 . scripts/lib/pairs.sh
+work=$(seeds_work)
+base_rev=$(git rev-parse --short "$base")
+tree=$(mktemp -d)
+trap 'git worktree remove --force "$tree"; [ -n "${SEEDS_WORK:-}" ] || rm -rf "$work"' EXIT
+git worktree add -q --detach "$tree" "$base_rev"
+(cd "$tree" && CARGO_TARGET_DIR="$root/target/ab-base" cargo build -q --release -p rotorid-cli --bin rotorid)
+base_bin="$root/target/ab-base/release/rotorid"
+start=$(date +%s)
 fly_pairs "$work" "$pairs" "$variations"
 # identify_base DIR: BASE's identifications of the pair in DIR (kept when already there).
 identify_base() {

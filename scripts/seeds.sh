@@ -25,17 +25,11 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 # rebuild with other features).
 [ -n "${ROTORID_BIN:-}" ] || cargo build -q --release -p rotorid-cli --bin rotorid
 bin="${ROTORID_BIN:-$CARGO_TARGET_DIR/release/rotorid}"
-if [ -n "${SEEDS_WORK:-}" ]; then
-  work=$(realpath -m "$SEEDS_WORK")
-  mkdir -p "$work"
-else
-  work=$(mktemp -d)
-  trap 'rm -rf "$work"' EXIT
-fi
-start=$(date +%s)
-
 # shellcheck source=scripts/lib/pairs.sh
 . scripts/lib/pairs.sh
+work=$(seeds_work)
+[ -n "${SEEDS_WORK:-}" ] || trap 'rm -rf "$work"' EXIT
+start=$(date +%s)
 fly_pairs "$work" "$pairs" "$variations"
 python3 scripts/seeds_report.py "$work" "$pairs" "$(($(date +%s) - start))" "$variations" >"$output"
 echo "wrote $output"

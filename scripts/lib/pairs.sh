@@ -1,8 +1,18 @@
-# Sourced by scripts/seeds.sh and scripts/short-logs.sh: the hover and envelope pairs of a
+# Sourced by scripts/seeds.sh, scripts/short-logs.sh and scripts/ab.sh: the hover and envelope pairs of a
 # plant and seed pair, flown by `rotorid simulate` and scored by `rotorid identify`.
 # Needs `bin` (the `rotorid` binary). TRAIN_S, when set, keeps only the first TRAIN_S seconds
 # of both training flights (short-logs.sh). IDENTIFY, when set, is the identifying command in
 # place of `$bin identify` (term-evidence.sh: `rotorid-lab identify-terms`).
+
+# seeds_work: prints the directory the flights go to: SEEDS_WORK (made if missing, and kept)
+# or a new temporary one, which the caller removes when SEEDS_WORK is unset.
+seeds_work() {
+  if [ -n "${SEEDS_WORK:-}" ]; then
+    mkdir -p "$SEEDS_WORK" && realpath "$SEEDS_WORK"
+  else
+    mktemp -d
+  fi
+}
 
 # fly_pair PLANT VARIATION|"" K DIR: the four flights of seed pair K (training seed K,
 # verification seed 100 + K) and the two identifications, in DIR (kept when DIR already has
