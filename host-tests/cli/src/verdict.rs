@@ -11,7 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::experiments::{FreeRunVelocity, TermMask, VariantResult};
+use crate::experiments::{FreeRunVelocity, TermMask, VariantResult, MODELS};
 use rotorid_sim::plant::SensorSample;
 
 /// The candidates, in order of preference when their scores tie.
@@ -295,7 +295,8 @@ pub fn verdict(
         .unwrap_or_default();
     let full_compensation: Vec<String> = find("flight selected")
         .map(|v| {
-            ["q", "r", "p"]
+            // The rate models, in `full_compensation`'s order.
+            MODELS[1..]
                 .iter()
                 .zip(v.full_compensation)
                 .filter(|(_, full)| *full)

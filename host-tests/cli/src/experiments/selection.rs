@@ -45,11 +45,12 @@ use rotorid::hover::{
     flight_sets, unscheduled_sets, GyroCompensation, HoverSample, RateStructure, VelocityStructure,
 };
 use rotorid::rls::RlsState;
-use rotorid::{FlightIdentifier, HoverConfig};
+use rotorid::{DynIdentifier, FlightIdentifier, HoverConfig};
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
-use super::variants::at;
+use super::selected::SelectedFlight;
+use super::variants::{at, Identifier};
 
 /// Length of the blocks the training data are cut into (s), when the data hold `2 FOLDS` of
 /// them.
@@ -316,13 +317,14 @@ pub(super) fn score(
     let mut diverged = 0;
     let mut blocks = Vec::new();
     for split in folds {
-        let mut id = masked_flight(mask, period_us)?;
+        // The model the product flies for this mask (`flight selected`'s).
+        let mut id = SelectedFlight::new(mask, period_us)?;
         train(&mut id, &split.learn, &mut || {});
         if let Some(sigma) = gyro_noise {
-            // As the tool's verification does: the free run flies the parameters compensated
-            // for the gyro noise, on each rate as the mask says; a refused compensation
-            // leaves the least-squares ones.
-            let _ = id.compensate_each(&sigma, mask.compensation());
+            // As the tool's verification does (with its default): the free run flies the
+            // parameters compensated for the gyro noise, on each rate as the mask says; a
+            // refused compensation leaves the least-squares ones.
+            let _ = id.compensate_each(&sigma, id.compensation(GyroCompensation::Damping));
         }
         for block in &split.check {
             let run = free_run(&id, block, window, FreeRunVelocity::Model);
