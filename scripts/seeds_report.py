@@ -10,6 +10,8 @@ from pathlib import Path
 
 work, pairs, seconds = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 variations = int(sys.argv[4]) if len(sys.argv) > 4 else 0
+# Pairs whose flights and identifications a kept SEEDS_WORK already held (not timed).
+reused = int(sys.argv[5]) if len(sys.argv) > 5 else 0
 PLANTS = [("xcell60", "X-Cell 60"), ("flybarless600", "flybarless 600")]
 REGIMES = [("hover", "hover (identification flight, 300 s verification)"),
            ("envelope", "envelope (hover to 12 m/s forward, ±5 m/s sideways, ±3 m/s vertical)")]
@@ -48,8 +50,11 @@ print(f"`{command}`: for each airframe and each seed pair k = 1..{pairs} "
       "model on the verification flight. Each cell is **median / worst** over the pairs of the "
       "model's 2 s free-run mean absolute error divided by extended plain's (first table of each "
       "regime) or by the error of holding the measured state (second table); below 1 is better. "
-      f"A pair whose simulation or identification failed is left out and counted. Run time {seconds} s "
-      "on 2 cores" + (f", plant variations included (last section)." if variations else "."))
+      "A pair whose simulation or identification failed is left out and counted. "
+      + (f"Run time {seconds} s on 2 cores" if not reused else
+         f"{reused} of the flight pairs (each with its hover and envelope identification) were reused "
+         f"from a kept `SEEDS_WORK`, so the run time ({seconds} s) is not a fresh run's")
+      + (f", plant variations included (last section)." if variations else "."))
 print()
 print("These are the repository's own simulated airframes: the models were developed on them, so "
       "the numbers bound what to expect, they do not prove it elsewhere (see docs/robustness.md "

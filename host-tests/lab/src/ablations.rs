@@ -10,7 +10,7 @@ use rotorid::hover::{
 use rotorid::rule_base::{PremiseSets, RuleBase};
 use rotorid::{FlightIdentifier, HoverConfig};
 use rotorid_cli::experiments::{
-    at, pin_to_zero, select_terms_with, Identifier, SelectedFlight, Variant, REMOVAL_EVIDENCE,
+    at, pin_to_zero, select_terms_with, Identifier, SelectedFlight, Variant,
 };
 
 /// The product's catalogue ([`rotorid_cli::experiments::variants`]) followed by the
@@ -21,44 +21,43 @@ pub fn full_catalogue() -> Vec<Variant> {
     all
 }
 
-/// The product's catalogue followed by `flight selected, no evidence`, `1 SE` and `0.5 SE`:
-/// the term selection asking a removal for no evidence (any removal that does not make the
-/// check blocks' score worse) or to beat their noise by that many standard errors, where the
-/// product asks [`REMOVAL_EVIDENCE`] ([`select_terms_with`]); `rotorid-lab identify-terms`,
-/// docs/term-evidence.md.
+/// The product's catalogue followed by `flight selected 2 SE`, `1 SE` and `0.5 SE`: the term
+/// selection asking a removal to beat the check blocks' noise by that many standard errors,
+/// or to leave fewer free-run windows diverging ([`select_terms_with`]); `rotorid-lab
+/// identify-terms`, docs/term-evidence.md.
 pub fn term_evidence_catalogue() -> Vec<Variant> {
     let mut all = rotorid_cli::experiments::variants();
     all.extend([
         Variant {
-            name: "flight selected, no evidence",
-            description: "flight selected where a term is switched off whenever its removal does not make the free run on the check blocks worse, and a rate's compensation made full whenever that makes it better (the product's rule before it asked two standard errors)",
+            name: "flight selected 2 SE",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than two standard errors of the paired block differences, or leaves fewer free-run windows diverging",
             kind: None,
-            build: |training, period| selected_asking(None, training, period),
+            build: |training, period| selected_asking(2.0, training, period),
         },
         Variant {
             name: "flight selected 1 SE",
-            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than one standard error of the paired block differences",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than one standard error of the paired block differences, or leaves fewer free-run windows diverging",
             kind: None,
-            build: |training, period| selected_asking(Some(1.0), training, period),
+            build: |training, period| selected_asking(1.0, training, period),
         },
         Variant {
             name: "flight selected 0.5 SE",
-            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than half a standard error of the paired block differences",
+            description: "flight selected where a term is switched off only if its removal lowers the free run on the check blocks by more than half a standard error of the paired block differences, or leaves fewer free-run windows diverging",
             kind: None,
-            build: |training, period| selected_asking(Some(0.5), training, period),
+            build: |training, period| selected_asking(0.5, training, period),
         },
     ]);
     all
 }
 
-/// The flight default with the terms whose removal convinces `evidence`
-/// ([`select_terms_with`]) switched off.
+/// The flight default with the terms whose removal beats the check blocks' noise by `k`
+/// standard errors switched off.
 fn selected_asking(
-    evidence: Option<f64>,
+    k: f64,
     training: &[Vec<HoverSample<f32>>],
     period: u32,
 ) -> Result<Box<dyn Identifier>, rotorid::Error> {
-    let selection = select_terms_with(training, period, evidence)?;
+    let selection = select_terms_with(training, period, Some(k))?;
     Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
 }
 

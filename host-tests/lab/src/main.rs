@@ -43,9 +43,9 @@ enum Command {
         #[command(flatten)]
         options: IdentifyOptions,
     },
-    /// `rotorid identify` with the product's variants and `flight selected, no evidence`,
-    /// `1 SE` and `0.5 SE`, the term selections that ask a removal for less evidence than the
-    /// product's two standard errors (used by scripts/term-evidence.sh). The same options.
+    /// `rotorid identify` with the product's variants and `flight selected 2 SE`, `1 SE` and
+    /// `0.5 SE`, the term selections that ask a removal to beat the check blocks' noise (used
+    /// by scripts/term-evidence.sh). The same options.
     IdentifyTerms {
         #[command(flatten)]
         options: IdentifyOptions,
