@@ -9,7 +9,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use rotorid::hover::{flight_sets, Attitude, Controls, HoverState};
+use rotorid::hover::{flight_sets, Attitude, Controls, GyroCompensation, HoverState};
 use rotorid::snapshot::KindCode;
 use rotorid::{
     DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
@@ -18,6 +18,31 @@ use rotorid::{
 };
 
 use crate::errors;
+
+/// `compensate`'s `how`: `None` (damping on every rate), one name for every rate, or a
+/// sequence of three names `[q r p]`.
+fn compensation(how: Option<&Bound<'_, PyAny>>) -> PyResult<[GyroCompensation; 3]> {
+    let one = |name: &str| match name {
+        "damping" => Ok(GyroCompensation::Damping),
+        "full" => Ok(GyroCompensation::Full),
+        other => Err(errors::input(format!(
+            "compensate: how {:?}; expected \"damping\" or \"full\"",
+            other.chars().take(40).collect::<String>()
+        ))),
+    };
+    let Some(how) = how else {
+        return Ok([GyroCompensation::Damping; 3]);
+    };
+    if let Ok(name) = how.extract::<String>() {
+        return Ok([one(&name)?; 3]);
+    }
+    match how.extract::<Vec<String>>() {
+        Ok(names) if names.len() == 3 => Ok([one(&names[0])?, one(&names[1])?, one(&names[2])?]),
+        _ => Err(errors::input(
+            "compensate: how must be \"damping\", \"full\" or a list of three of them [q r p]",
+        )),
+    }
+}
 
 /// Floats of one sample in a `step_many` block: attitude 3, velocity 3, rates 3, controls 4.
 pub const FLOATS_PER_SAMPLE: usize = 13;
@@ -211,6 +236,32 @@ impl Identifier {
         let s = sample(time_us, attitude, velocity, rates, controls);
         let out = self.inner.id.resume(&s).map_err(|e| errors::core(e, ""))?;
         Ok(state(&out))
+    }
+
+    /// Removes from the rate models' parameters the bias of the gyros' white noise
+    /// `gyro_noise` σ `[q r p]` (deg/s), as the C interface's `rotorid_compensate_each`:
+    /// `how` is "damping" (the damping term's noise; the default) or "full" (the
+    /// second-order term's too), one for every rate or a list of three `[q r p]`. Returns
+    /// `(compensated, refused)`, the rules whose parameters were replaced and those left as
+    /// they were (too little information, or the compensated rate would be unstable). These
+    /// are the parameters to free-run with (`identify` flies them); the learnt ones are the
+    /// better one-step predictor, so compensate a copy (`import_` of an `export`) and keep
+    /// learning on the original. Raises `InputError` for an unknown `how`, a `CoreError`
+    /// subclass for a σ the core refuses (negative, not finite), leaving the identifier
+    /// unchanged.
+    #[pyo3(signature = (gyro_noise, how = None))]
+    fn compensate(
+        &mut self,
+        gyro_noise: [f32; 3],
+        how: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(u16, u16)> {
+        let how = compensation(how)?;
+        let done = self
+            .inner
+            .id
+            .compensate_each(&gyro_noise, how)
+            .map_err(|e| errors::core(e, "compensate"))?;
+        Ok((done.compensated, done.refused))
     }
 
     /// Forgets everything learnt (the parameters back to their initial values).

@@ -136,3 +136,45 @@ def test_import_refuses_foreign_or_damaged_exports():
     with pytest.raises(rotorid.IncompatibleError):
         fresh.import_(b[:-1])
     assert fresh.export() == rotorid.FlightIdentifier().export()
+
+
+def test_compensate_removes_the_gyro_noise_per_rate():
+    learnt = rotorid.FlightIdentifier()
+    learnt.step_many(**stream())
+    b = learnt.export()
+
+    def copy():
+        c = rotorid.FlightIdentifier()
+        c.import_(b)
+        return c
+
+    # Small enough against the stream's rates that rules compensate (at 0.5 deg/s the full
+    # compensation is refused on all of this short stream's rules, so it equals damping).
+    sigma = [0.05, 0.05, 0.05]
+    damping = copy()
+    compensated, refused = damping.compensate(sigma)
+    assert compensated > 0 and compensated + refused == 9  # three rules on each of three rates
+    assert damping.export() != b  # the rate models' parameters were replaced
+    # The default is the damping term's on every rate, said once or per rate.
+    for how in ("damping", ["damping"] * 3):
+        other = copy()
+        assert other.compensate(sigma, how) == (compensated, refused)
+        assert other.export() == damping.export()
+    full = copy()
+    full.compensate(sigma, "full")
+    assert full.export() != damping.export()
+    # Per rate: full on q only differs from both.
+    mixed = copy()
+    mixed.compensate(sigma, ["full", "damping", "damping"])
+    assert mixed.export() not in (damping.export(), full.export())
+    # Refused input leaves the identifier unchanged.
+    for bad_sigma, how, error in [
+        ([-1.0, 0.05, 0.05], None, rotorid.CoreError),
+        ([float("nan"), 0.05, 0.05], None, rotorid.CoreError),
+        (sigma, "fully", rotorid.InputError),
+        (sigma, ["full", "damping"], rotorid.InputError),
+    ]:
+        untouched = copy()
+        with pytest.raises(error):
+            untouched.compensate(bad_sigma, how)
+        assert untouched.export() == b

@@ -1,7 +1,7 @@
 """Type stubs of the native module (src/lib.rs); the public API is the package's
 (rotorid/__init__.py), which wraps these calls."""
 
-from typing import List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 KINDS: List[str]
 FLOATS_PER_SAMPLE: int
@@ -49,6 +49,13 @@ class Identifier:
         rates: Sequence[float],
         controls: Sequence[float],
     ) -> List[float]: ...
+    def compensate(
+        self,
+        gyro_noise: Sequence[float],
+        how: Union[None, str, Sequence[str]] = None,
+    ) -> Tuple[int, int]:
+        """Removes the gyro noise σ [q r p] (deg/s) from the rate models' parameters
+        ("damping" or "full", per rate or for all); returns (compensated, refused) rules."""
     def reset(self) -> None: ...
     def _step_block(self, times: bytes, floats: bytes) -> Tuple[bytes, bytes]: ...
     def export(self) -> bytes:
