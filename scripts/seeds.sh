@@ -30,7 +30,7 @@ bin="${ROTORID_BIN:-$CARGO_TARGET_DIR/release/rotorid}"
 work=$(seeds_work)
 [ -n "${SEEDS_WORK:-}" ] || trap 'rm -rf "$work"' EXIT
 start=$(date +%s)
-reused=$(find "$work" -path '*/envelope/metrics.json' | wc -l)
+reused=$(kept_pairs "$work")
 fly_pairs "$work" "$pairs" "$variations"
 python3 scripts/seeds_report.py "$work" "$pairs" "$(($(date +%s) - start))" "$variations" \
   "$reused" >"$output"

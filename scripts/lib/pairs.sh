@@ -14,6 +14,21 @@ seeds_work() {
   fi
 }
 
+# pair_kept DIR: whether DIR already holds a pair's flights and identifications (the envelope's
+# identification is the last made), which fly_pair then keeps.
+pair_kept() {
+  [ -f "$1/envelope/metrics.json" ]
+}
+
+# kept_pairs WORK: how many pairs under WORK fly_pairs would keep (a kept SEEDS_WORK's).
+kept_pairs() {
+  local dir n=0
+  for dir in "$1"/*/; do
+    if pair_kept "$dir"; then n=$((n + 1)); fi
+  done
+  echo "$n"
+}
+
 # fly_pair PLANT VARIATION|"" K DIR: the four flights of seed pair K (training seed K,
 # verification seed 100 + K) and the two identifications, in DIR (kept when DIR already has
 # them: seeds.sh's SEEDS_WORK); a failure is told, not fatal.
@@ -22,7 +37,7 @@ fly_pair() {
   local pv=() duration=()
   [ -z "$variation" ] || pv=(--plant-variation "$variation")
   [ -z "${TRAIN_S:-}" ] || duration=(--duration "$TRAIN_S")
-  [ -f "$dir/envelope/metrics.json" ] && return 0
+  pair_kept "$dir" && return 0
   mkdir -p "$dir"
   (
     cd "$dir"
