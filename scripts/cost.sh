@@ -165,6 +165,7 @@ of \`q p\` changed the model, and with it the hash, at no cost):
 | the attitude as a quaternion (\`FlightIdentifier/quaternion\`: no \`sincosf\`; the last bits differ, another hash) | 11 280 | 11 800 |
 | updates of a model with one output skip the grouping of parallel rows, which needs two or more (the same bits; with a quaternion 11 080 / 11 560) | 14 320 | 14 880 |
 | the translational model scheduled on the horizontal speed (\`Premise::HorizontalSpeed\`: a \`sqrtf\` and strengths of its own; the yaw and roll models take the pitch model's; a model change: another hash; with a quaternion 11 760 / 12 200) | 15 000 | 15 440 |
+| the square root by the FPU's \`vsqrt.f32\` instead of \`libm\`'s software \`sqrtf\` (IEEE 754 rounds both correctly: the same bits; with a quaternion 11 600 / 12 040) | 14 880 | 15 360 |
 | now | see table | see table |
 
 The forward-speed firing strengths are computed once per sample (by the velocity model; the
@@ -186,11 +187,37 @@ compensation are linked too) and take the attitude form as a value (so the Euler
 \`sincosf\` and its \`f64\` soft-float are linked too); and with the lean calls
 (\`rotorid_lean_init_<kind>\` + \`rotorid_lean_step_<kind>\`: that kind's init and
 quaternion step only; \`docs/c-interface.md\`, "Flash budget"). Target of issue 28: the flight
-kind within 20 KiB (20 480 B): **not met**, with the lean calls either. The lean firmware links
-no trigonometry and no \`f64\` code; what remains is the core's own code (the largest functions
-below): the step (inlined into \`rotorid_lean_step_flight\`, so the parts table counts it for the
-C interface) and the constructor (inlined into \`Build::build_into\`), and the local estimator's
-update, preparation and prediction, each instantiated twice (for the translational model's
+kind within 20 KiB (20 480 B): **met with the lean calls** (the first table); the generic
+calls link every method and both attitude forms, about 37 KB. These changes took the lean
+flight firmware from 22 974 B to within it, each with the same bits (this script fails
+unless the library at "s" and at 2 hash alike, and the hashes at the top did not change):
+
+* at opt-level "s" or "z", which the C interface ships, the core builds small code
+  (\`core/build.rs\`, \`cfg(rotorid_small_code)\`): one out-of-line RLS update for every
+  estimator size instead of one per size with Bierman's column loop written out (about
+  1 770 B);
+* on an Arm with hard float the square root is the FPU's \`vsqrt.f32\` instead of
+  \`libm\`'s software \`sqrtf\` and its table (about 460 B; IEEE 754 rounds both correctly,
+  and \`host-tests/tests/firmware_step_cost.rs\` compares them over half a million inputs on
+  QEMU);
+* a local estimator's rules are zeroed as one array and reset where they lie, instead of
+  each made apart and copied in twice (about 180 B);
+* the C interface tells the compiler that the storage is aligned (its documented contract),
+  so that the constructor writes it in words and the unaligned \`__aeabi_memclr\` is not
+  linked (about 210 B).
+
+The shared update costs cycles at "s" (the lean flight step 26 079 / 29 080 → about
+27 500 / 31 000 instructions, mean / worst); at opt-level 2 and 3 nothing changed but the
+square root (about 100 instructions less per step). Tried and not kept: one local estimator
+constructor per size instead of one per model (390 B less, but its temporaries no longer went
+straight into the storage: \`rotorid_init_flight\`'s stack 4 388 → 9 480 B; the rate
+model's whole constructor out of line instead, 400 B less, made the extended fuzzy kind's
+minimal firmware run out of stack), and the prediction cache as an \`Option\` (100 B more).
+The lean firmware links no trigonometry and no \`f64\` code; what
+remains is the core's own code (the largest functions below): the step (inlined into
+\`rotorid_lean_step_flight\`, so the parts table counts it for the C interface) and the
+constructor (inlined into \`Build::build_into\`), the shared update, and the local
+estimator's preparation and prediction, each instantiated twice (for the translational model's
 dimensions and for the rate models'); then the memory routines (\`compiler_builtins\`'
 \`memcpy\`/\`memset\`, which a firmware with a C library of its own may share). The Rust
 equivalent is below. The last column of the first table is each kind's lean step as the

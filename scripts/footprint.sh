@@ -97,7 +97,7 @@ import sys, collections
 parts = [
     ("the C interface's calls, with the core code inlined into them (the step, the constructor; generic: every method of the kind, through the view's vtable)", ("rotorid_ffi", "rotorid_", "<rotorid::hover::identifier::HoverIdentifier<f32,V,Q,R,P> as rotorid_ffi")),
     ("libm: sincosf and its argument reductions (Euler angles)", ("libm::math::sincos", "libm::math::rem_pio2", "libm::math::k_", "libm::math::generic::trig")),
-    ("libm: the rest (expf, sqrtf)", ("libm",)),
+    ("libm: the rest (expf; the square root is the FPU's)", ("libm",)),
     ("f64 soft-float (sincosf computes in f64; f64 constants converted at init)", ("__aeabi_d", "__muldf3", "__adddf3", "__aeabi_f2d", "__truncdfsf2", "__extendsfdf2", "compiler_builtins::float")),
     ("memory routines (memcpy, memset)", ("memcpy", "memset", "memclr", "__aeabi_mem", "compiler_builtins::mem")),
     ("the rotorid core", ("rotorid::", "<rotorid::")),

@@ -1,6 +1,8 @@
 #![no_std]
 #![doc = include_str!("../README.md")]
-#![forbid(unsafe_code)]
+// One `unsafe` block in the crate, allowed where it is: the Arm FPU's square root instruction
+// (`scalar::sqrt_f32`).
+#![deny(unsafe_code)]
 // No panic path: the workspace's lints (Cargo.toml) fail clippy and CI on any unwrap, expect,
 // panic or unchecked index outside the tests.
 

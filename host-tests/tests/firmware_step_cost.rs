@@ -52,6 +52,58 @@ fn every_identifier_is_bit_identical_on_the_cortex_m4f() {
     assert_eq!(host, target, "firmware output:\n{text}");
 }
 
+/// `Real::sqrt_ieee` for `f32` is the FPU's `vsqrt.f32` on the Cortex-M4F and `libm`'s
+/// `sqrtf` here: the same bits over half a million inputs spread over every exponent (both are
+/// correctly rounded, as IEEE 754 requires), and here also std's `f32::sqrt`.
+#[test]
+fn the_square_root_is_bit_identical_on_the_cortex_m4f() {
+    let host = step_cost::sqrt_hash();
+    let mut std_hash = 0x811c_9dc5u32;
+    let mut n = 0;
+    let mut check = |bits: u32| {
+        let x = f32::from_bits(bits);
+        let (ours, std) = (rotorid::Real::sqrt_ieee(x), x.sqrt());
+        assert_eq!(
+            ours.to_bits(),
+            std.to_bits(),
+            "sqrt of {x:e} ({bits:#010x})"
+        );
+        for b in ours.to_bits().to_le_bytes() {
+            std_hash = (std_hash ^ u32::from(b)).wrapping_mul(0x0100_0193);
+        }
+        n += 1;
+    };
+    for i in 0..=(0x7f80_0000u32 >> 12) {
+        check(i << 12 | (i.wrapping_mul(0x9e37_79b9) >> 20));
+    }
+    check(0x8000_0000);
+    check(0x7f7f_ffff);
+    for bits in 1..=256 {
+        check(bits);
+    }
+    assert_eq!(n, step_cost::SQRT_INPUTS);
+    assert_eq!(
+        std_hash, host,
+        "the hash walks other inputs than step_cost::sqrt_hash"
+    );
+    let out = step_cost_qemu()
+        .expect("firmware builds")
+        .args(["-append", "sqrt"])
+        .output()
+        .expect("qemu runs");
+    assert!(
+        out.status.success(),
+        "step-cost sqrt exited with {}",
+        out.status
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        text.trim(),
+        format!("sqrt_ieee: {host:08x}"),
+        "firmware output:\n{text}"
+    );
+}
+
 /// The firmware links libgcc's `f64` soft-float (feature `libgcc-soft-float`, on by default),
 /// as docs/cost.md says its figures do: none of `compiler_builtins`' float additions or
 /// multiplications is left in the step-cost binary, and the `__aeabi_` entry points are there.

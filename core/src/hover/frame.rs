@@ -104,7 +104,7 @@ fn heading<T: Real>(r00: T, r10: T, r01: T, r11: T) -> (T, T) {
         (r11, -r01, r11 * r11 + r01 * r01)
     };
     if n2 > T::zero() {
-        let n = n2.sqrt();
+        let n = n2.sqrt_ieee();
         (s / n, c / n)
     } else {
         // Not an orthonormal matrix (refused by its check); north keeps this finite.

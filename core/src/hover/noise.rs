@@ -93,7 +93,7 @@ impl<T: Real> RateNoise<T> {
             return None;
         }
         let n = T::lit(f64::from(self.count)) * T::lit(20.0);
-        Some(self.sum.map(|s| (s / n).sqrt()))
+        Some(self.sum.map(|s| (s / n).sqrt_ieee()))
     }
 }
 

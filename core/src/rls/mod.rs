@@ -451,12 +451,16 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         }
     }
 
-    /// θ = 0, P = αI, counters cleared.
+    /// `R` estimators with θ = 0, P = αI, counters cleared: zeroed as one array, then each
+    /// reset where it lies (made one by one, each was copied into the array twice: 176 B more
+    /// in the C interface's lean flight firmware).
     #[inline(always)]
-    pub(crate) fn fresh(config: &RlsConfig<T>) -> Self {
-        let mut core = Self::zeroed();
-        core.reset(config);
-        core
+    pub(crate) fn fresh_array<const R: usize>(config: &RlsConfig<T>) -> [Self; R] {
+        let mut all = core::array::from_fn(|_| Self::zeroed());
+        for core in &mut all {
+            core.reset(config);
+        }
+        all
     }
 
     /// Back to θ = 0, P = αI, counters cleared.
@@ -547,8 +551,10 @@ impl<T: Real, const N: usize, const NP: usize> RlsCore<T, N, NP> {
         support: S,
         m: Measurement<T>,
     ) {
-        // Every parameter, few of them, U-D: the unrolled kernel (the same bits).
-        if support.max_len() == Some(N)
+        // Every parameter, few of them, U-D: the unrolled kernel (the same bits), unless the
+        // build asks for small code (`core/build.rs`).
+        if !cfg!(rotorid_small_code)
+            && support.max_len() == Some(N)
             && N <= UNROLLED_UP_TO
             && config.algorithm == Algorithm::UdFactor
         {

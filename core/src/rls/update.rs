@@ -107,7 +107,8 @@ impl ParameterSupport for AllParameters {
     }
 
     /// Inlined into the estimator of each size: the loops are over constant lengths, which
-    /// the compiler unrolls for small N.
+    /// the compiler unrolls for small N. Built for small code (`core/build.rs`), one copy
+    /// for every size instead ([`RlsSlices::update_all`]).
     #[inline(always)]
     fn update<T: Real>(
         self,
@@ -118,7 +119,11 @@ impl ParameterSupport for AllParameters {
         s: [&mut [T]; 3],
     ) -> bool {
         let [s1, s2, s3] = s;
-        w.update(xi, nz, self, m, s1, s2, s3)
+        if cfg!(rotorid_small_code) {
+            w.update_all(xi, nz, self, m, s1, s2, s3)
+        } else {
+            w.update(xi, nz, self, m, s1, s2, s3)
+        }
     }
 }
 
@@ -178,6 +183,23 @@ impl<T: Real> RlsSlices<'_, T> {
         xi: &[T],
         nz: &[u16],
         support: &[Run],
+        m: Measurement<T>,
+        s1: &mut [T],
+        s2: &mut [T],
+        s3: &mut [T],
+    ) -> bool {
+        self.update(xi, nz, support, m, s1, s2, s3)
+    }
+
+    /// [`update`](Self::update) over every parameter, as one shared routine: the copy that
+    /// every estimator size calls when the build asks for small code (`core/build.rs`).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn update_all(
+        &mut self,
+        xi: &[T],
+        nz: &[u16],
+        support: AllParameters,
         m: Measurement<T>,
         s1: &mut [T],
         s2: &mut [T],

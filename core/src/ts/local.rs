@@ -116,7 +116,7 @@ impl<T: Real, const V: usize, const R: usize, const D: usize, const DP: usize>
         estimator: Rls<T, D, DP>,
         unchecked: |rules, config, scaling| Self {
             rules,
-            local: core::array::from_fn(|_| RlsCore::fresh(&config)),
+            local: RlsCore::fresh_array(&config),
             scaling,
             config,
             kept: Kept::none(),

@@ -181,7 +181,7 @@ pub(crate) fn prepare_rows<T: Real, const R: usize, const D: usize, const M: usi
         .enumerate()
     {
         if let (Some(slot), true) = (g.slot, g.members > 1) {
-            let norm = g.sum_sq.sqrt();
+            let norm = g.sum_sq.sqrt_ieee();
             *y = g.weighted_target / norm;
             if let Some(d) = row.get_mut(slot) {
                 *d = norm;

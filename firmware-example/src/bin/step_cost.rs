@@ -3,7 +3,8 @@
 //! `qemu-system-arm -icount shift=0`, where one SysTick tick is 40 instructions).
 //!
 //! Command line (semihosting, QEMU's `-append`): none for the whole table, or
-//! `IDENTIFIER STEPS` to step only that identifier (`step_profile --identifier` traces it).
+//! `IDENTIFIER STEPS` to step only that identifier (`step_profile --identifier` traces it), or
+//! `sqrt` for the hash of the square roots of `step_cost::sqrt_hash` (a host test compares it).
 #![no_std]
 #![no_main]
 
@@ -45,12 +46,16 @@ fn main() -> ! {
     let mut words = (&args).skip(1).filter_map(Result::ok);
     let selection = match (words.next(), words.next().map(str::parse)) {
         (None, _) => Selection::ALL,
+        (Some("sqrt"), None) => {
+            semihosting::println!("sqrt_ieee: {:08x}", step_cost::sqrt_hash());
+            board::exit(0)
+        }
         (Some(name), Some(Ok(steps))) => Selection {
             only: Some(name),
             steps,
         },
         _ => {
-            semihosting::println!("usage: step-cost [IDENTIFIER STEPS]");
+            semihosting::println!("usage: step-cost [IDENTIFIER STEPS | sqrt]");
             board::exit(board::EXIT_INIT)
         }
     };

@@ -271,7 +271,7 @@ impl Premise {
             }
             Self::HorizontalSpeed => {
                 let [x, y, z] = s.velocity;
-                [(x * x + z * z).sqrt(), y, T::zero()]
+                [(x * x + z * z).sqrt_ieee(), y, T::zero()]
             }
         }
     }
