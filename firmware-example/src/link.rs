@@ -10,9 +10,9 @@ use core::hint::black_box;
 use embedded_io::{Read, Write};
 use rotorid_link::{
     msg::{
-        Ack, CompensateMsg, CostReport, CostRequest, DataChunk, FaultKind, Hello, IdentRequest,
-        MemoryReport, MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg, StatsReport,
-        SweepStart, Workload,
+        Ack, CompensateEachMsg, CompensateMsg, CostReport, CostRequest, DataChunk, FaultKind,
+        Hello, IdentRequest, MemoryReport, MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg,
+        StatsReport, SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
@@ -262,6 +262,16 @@ fn handle<U: Write, P: Platform, T: Write>(
                 Ok(()) => Reply::ack(out, seq, code),
                 Err(e) => {
                     defmt::warn!("compensate refused: {}", e);
+                    out.nack(seq, code, NackReason::Refused)
+                }
+            },
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
+        Some(MsgType::CompensateEach) => match CompensateEachMsg::read(frame.payload) {
+            Ok(m) => match engine.compensate_each(&m.gyro_noise, m.how.map(Into::into)) {
+                Ok(()) => Reply::ack(out, seq, code),
+                Err(e) => {
+                    defmt::warn!("compensate each refused: {}", e);
                     out.nack(seq, code, NackReason::Refused)
                 }
             },

@@ -12,15 +12,15 @@
 use std::collections::VecDeque;
 use std::fmt;
 
-use rotorid::hover::{flight_sets, HoverSample};
+use rotorid::hover::{flight_sets, GyroCompensation, HoverSample};
 use rotorid::{
     DynIdentifier, ExtendedPlainIdentifier, FlightIdentifier, HoverConfig, PaperFuzzyIdentifier,
     PaperPlainIdentifier,
 };
 use rotorid_link::msg::{
-    self, Ack, CompensateMsg, DataChunk, Estimate, IdOutput, Ident, IdentPair, IdentRequest,
-    MemoryReport, MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload, ResetMsg, RlsForm,
-    SampleMode, SampleMsg, SweepSample, SweepStart,
+    self, Ack, CompensateEachMsg, CompensateMsg, DataChunk, Estimate, IdOutput, Ident, IdentPair,
+    IdentRequest, MemoryReport, MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload,
+    RateCompensation, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{Answer, SampleChain, Writer};
 
@@ -157,14 +157,24 @@ impl Mirror {
     /// What the firmware does on `Compensate`: the active pair's rate models compensated for
     /// the gyros' noise σ `[q r p]` (deg/s), in place.
     pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), rotorid::Error> {
+        self.compensate_each(gyro_noise, [GyroCompensation::Damping; 3])
+    }
+
+    /// What the firmware does on `CompensateEach`: [`compensate`](Self::compensate) with a
+    /// choice per rate `[q r p]`.
+    pub fn compensate_each(
+        &mut self,
+        gyro_noise: &[f32; 3],
+        how: [GyroCompensation; 3],
+    ) -> Result<(), rotorid::Error> {
         match self.pair {
             IdentPair::Flight => {
-                self.flight.compensate(gyro_noise)?;
-                self.extended_plain.compensate(gyro_noise)?;
+                self.flight.compensate_each(gyro_noise, how)?;
+                self.extended_plain.compensate_each(gyro_noise, how)?;
             }
             _ => {
-                self.fuzzy.compensate(gyro_noise)?;
-                self.plain.compensate(gyro_noise)?;
+                self.fuzzy.compensate_each(gyro_noise, how)?;
+                self.plain.compensate_each(gyro_noise, how)?;
             }
         }
         Ok(())
@@ -405,6 +415,23 @@ impl Onboard {
         expect_ack(&f, MsgType::Compensate)?;
         self.mirror
             .compensate(&gyro_noise)
+            .map_err(OnboardError::Core)
+    }
+
+    /// `CompensateEach` on both sides: [`compensate`](Self::compensate) with a choice per rate
+    /// `[q r p]`.
+    pub fn compensate_each(
+        &mut self,
+        gyro_noise: [f32; 3],
+        how: [RateCompensation; 3],
+    ) -> Result<(), OnboardError> {
+        let p = payload(|w| CompensateEachMsg { gyro_noise, how }.write(w));
+        let f = self
+            .link
+            .request(MsgType::CompensateEach, &p, MsgType::Ack)?;
+        expect_ack(&f, MsgType::CompensateEach)?;
+        self.mirror
+            .compensate_each(&gyro_noise, how.map(Into::into))
             .map_err(OnboardError::Core)
     }
 

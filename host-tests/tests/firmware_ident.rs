@@ -16,7 +16,8 @@ use rotorid::hover::HoverSample;
 use rotorid::sweep::SweepSchedule;
 use rotorid_cli::error_chain::Chain;
 use rotorid_link::msg::{
-    Ident, MsgType, NackReason, Payload, RlsForm, SampleMode, SampleMsg, SweepStart,
+    CompensateEachMsg, Ident, MsgType, Nack, NackReason, Payload, RateCompensation, RlsForm,
+    SampleMode, SampleMsg, SweepStart,
 };
 
 fn hex_all(xs: &[f32]) -> String {
@@ -437,6 +438,44 @@ fn flight_pair_learns_predicts_and_free_runs_bit_for_bit() {
             .collect()
     };
     assert_ne!(free(&again), free(&res));
+    // `CompensateEach`: the per-rate choice reaches the firmware. A refused σ changes
+    // nothing; full compensation of q and p (r damping only) gives other parameters than
+    // damping alone would (checked on a copy of the host's identifier), and the firmware's
+    // replies equal the host's bit for bit (`stream`), so it applied the same choice.
+    let full_qp = [
+        RateCompensation::Full,
+        RateCompensation::Damping,
+        RateCompensation::Full,
+    ];
+    assert!(ob.compensate_each([0.3, -1.0, 0.3], full_qp).is_err());
+    // A code that is neither choice is a bad payload (and changes nothing either: the stream
+    // below still matches the host's).
+    let mut bad = payload(|w| {
+        CompensateEachMsg {
+            gyro_noise: [0.3; 3],
+            how: full_qp,
+        }
+        .write(w)
+    });
+    bad[13] = 2;
+    let f = ob
+        .link
+        .request(MsgType::CompensateEach, &bad, MsgType::Nack)
+        .expect("nack");
+    let nack = Nack::read(&f.payload).expect("nack payload");
+    assert_eq!(nack.reason, NackReason::BadPayload as u8);
+    let mut damping_only = ob.mirror.flight.clone();
+    damping_only.compensate(&[0.3; 3]).expect("compensate");
+    ob.compensate_each([0.3; 3], full_qp)
+        .expect("compensate each");
+    ob.stream(&msgs, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let predict = |id: &rotorid::FlightIdentifier<f32>| {
+        id.predict(&ver[0])
+            .expect("predict")
+            .to_array()
+            .map(f32::to_bits)
+    };
+    assert_ne!(predict(&ob.mirror.flight), predict(&damping_only));
     // Params are the paper pair's: refused while the flight pair answers (export and import
     // are not: `flight_pair_exports_and_imports_over_the_link_bit_for_bit`).
     assert!(matches!(

@@ -25,12 +25,13 @@
 //!   `Params` message (one per model) cannot name.
 //! * `SweepStart` → `SweepSample`…, `Ack`: Table 2's excitation generated onboard.
 //! * `Compensate` → `Ack`: the active pair's rate models compensated for the gyros' noise
-//!   (`HoverIdentifier::compensate`), the parameters to free-run with.
+//!   (`HoverIdentifier::compensate`), the parameters to free-run with; `CompensateEach`, the
+//!   same with a choice per rate (`HoverIdentifier::compensate_each`).
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{AtomicBool, Ordering};
 
-use rotorid::hover::{flight_sets, HoverIdentifier, StateModel};
+use rotorid::hover::{flight_sets, GyroCompensation, HoverIdentifier, StateModel};
 use rotorid::rls::RlsView;
 use rotorid::sweep::SweepSchedule;
 use rotorid::{
@@ -135,12 +136,13 @@ pub trait Reply {
     fn nack(&mut self, seq: u16, msg_type: u8, reason: NackReason);
 }
 
-/// [`Identification::compensate`] of one pair: both identifiers take the same σ, so once the
-/// first accepted it the second does too.
+/// [`Identification::compensate_each`] of one pair: both identifiers take the same σ, so
+/// once the first accepted it the second does too.
 fn compensate_both<A, B, C, D, E, F, G, H>(
     fuzzy: &mut Result<HoverIdentifier<f32, A, B, C, D>, Error>,
     plain: &mut Result<HoverIdentifier<f32, E, F, G, H>, Error>,
     gyro_noise: &[f32; 3],
+    how: [GyroCompensation; 3],
 ) -> Result<(), Error>
 where
     A: StateModel<f32>,
@@ -155,8 +157,8 @@ where
     let (Ok(f), Ok(p)) = (fuzzy, plain) else {
         return Err(Error::Incompatible);
     };
-    f.compensate(gyro_noise)?;
-    p.compensate(gyro_noise)?;
+    f.compensate_each(gyro_noise, how)?;
+    p.compensate_each(gyro_noise, how)?;
     Ok(())
 }
 
@@ -270,11 +272,21 @@ impl Identification {
     /// the gyros' white noise σ `[q r p]` (deg/s) in place. The first is checked before the
     /// second is changed, so on `Err` (σ refused) nothing changed.
     pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), Error> {
+        self.compensate_each(gyro_noise, [GyroCompensation::Damping; 3])
+    }
+
+    /// `CompensateEach`: [`compensate`](Self::compensate) with a choice per rate `[q r p]`
+    /// (`HoverIdentifier::compensate_each`). On `Err` nothing changed.
+    pub fn compensate_each(
+        &mut self,
+        gyro_noise: &[f32; 3],
+        how: [GyroCompensation; 3],
+    ) -> Result<(), Error> {
         match self.pair {
             IdentPair::Flight => {
-                compensate_both(&mut self.flight, &mut self.extended_plain, gyro_noise)
+                compensate_both(&mut self.flight, &mut self.extended_plain, gyro_noise, how)
             }
-            _ => compensate_both(&mut self.fuzzy, &mut self.plain, gyro_noise),
+            _ => compensate_both(&mut self.fuzzy, &mut self.plain, gyro_noise, how),
         }
     }
 

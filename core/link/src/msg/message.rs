@@ -59,6 +59,9 @@ wire_enum! {
         /// Host→FW: [`CompensateMsg`](super::ident::CompensateMsg), compensate the active pair's rate models for the
         /// gyros' noise (the parameters to free-run with); answered by [`MsgType::Ack`].
         Compensate = 0x1C,
+        /// Host→FW: [`CompensateEachMsg`](super::ident::CompensateEachMsg), `Compensate` with a
+        /// choice per rate (damping or full); answered by [`MsgType::Ack`].
+        CompensateEach = 0x1D,
     }
 }
 

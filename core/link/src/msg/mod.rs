@@ -128,8 +128,8 @@ pub use message::{MsgType, Payload};
 
 pub use errors::{read_error, write_error, ERROR_LEN, UNKNOWN_CODE};
 pub use ident::{
-    CompensateMsg, Estimate, ExportRequest, IdOutput, Ident, IdentPair, IdentRequest,
-    ParamsRequest, ResetMsg, RlsForm, SampleMode, SampleMsg,
+    CompensateEachMsg, CompensateMsg, Estimate, ExportRequest, IdOutput, Ident, IdentPair,
+    IdentRequest, ParamsRequest, RateCompensation, ResetMsg, RlsForm, SampleMode, SampleMsg,
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{read_rls_state, summary_words, ParamField, ParamsChunk};
@@ -177,6 +177,7 @@ mod tests {
             Estimate::TYPES,
             ResetMsg::TYPES,
             CompensateMsg::TYPES,
+            CompensateEachMsg::TYPES,
             IdentRequest::TYPES,
             ParamsChunk::TYPES,
             DataChunk::TYPES,
