@@ -87,25 +87,23 @@ fn fnv(hash: u32, word: u32) -> u32 {
 /// How many inputs [`sqrt_hash`] takes.
 pub const SQRT_INPUTS: u32 = (0x7f80_0000 >> 12) + 1 + 2 + 256;
 
-/// FNV-1a of the bits of [`rotorid::Real::sqrt_ieee`] over [`SQRT_INPUTS`] `f32` values: one
-/// in every 4 096 positive bit patterns from +0 to +∞ (its low 12 bits varied), −0, the largest
-/// value, and the 256 smallest subnormals. On the Cortex-M4F that is the FPU's `vsqrt.f32`,
-/// on x86_64 `libm`'s `sqrtf` (`sqrtss`): a host test compares the two hashes.
+/// The bit patterns [`sqrt_hash`] takes the square root of: one in every 4 096 positive `f32`
+/// bit patterns from +0 to +∞ (its low 12 bits varied), −0, the largest value, and the 256
+/// smallest subnormals ([`SQRT_INPUTS`] in all).
+pub fn sqrt_inputs() -> impl Iterator<Item = u32> {
+    let spread =
+        (0..=(0x7f80_0000u32 >> 12)).map(|i| i << 12 | (i.wrapping_mul(0x9e37_79b9) >> 20));
+    spread.chain([0x8000_0000, 0x7f7f_ffff]).chain(1..=256)
+}
+
+/// FNV-1a of the bits of [`rotorid::Real::sqrt_ieee`] over [`sqrt_inputs`]. On the
+/// Cortex-M4F that is the FPU's `vsqrt.f32`, on x86_64 `libm`'s `sqrtf` (`sqrtss`): a host
+/// test compares the two hashes.
 pub fn sqrt_hash() -> u32 {
-    let mut hash = 0x811c_9dc5;
-    let mut root = |bits: u32| {
+    sqrt_inputs().fold(0x811c_9dc5, |hash, bits| {
         let x = core::hint::black_box(f32::from_bits(bits));
-        hash = fnv(hash, rotorid::Real::sqrt_ieee(x).to_bits());
-    };
-    for i in 0..=(0x7f80_0000u32 >> 12) {
-        root(i << 12 | (i.wrapping_mul(0x9e37_79b9) >> 20));
-    }
-    root(0x8000_0000);
-    root(0x7f7f_ffff);
-    for bits in 1..=256 {
-        root(bits);
-    }
-    hash
+        fnv(hash, rotorid::Real::sqrt_ieee(x).to_bits())
+    })
 }
 
 /// Which identifiers a run steps, and how far.

@@ -108,7 +108,7 @@ impl ParameterSupport for AllParameters {
 
     /// Inlined into the estimator of each size: the loops are over constant lengths, which
     /// the compiler unrolls for small N. Built for small code (`core/build.rs`), one copy
-    /// for every size instead ([`RlsSlices::update_all`]).
+    /// for every size instead ([`RlsSlices::update_shared`]).
     #[inline(always)]
     fn update<T: Real>(
         self,
@@ -120,7 +120,7 @@ impl ParameterSupport for AllParameters {
     ) -> bool {
         let [s1, s2, s3] = s;
         if cfg!(rotorid_small_code) {
-            w.update_all(xi, nz, self, m, s1, s2, s3)
+            w.update_shared(xi, nz, self, m, s1, s2, s3)
         } else {
             w.update(xi, nz, self, m, s1, s2, s3)
         }
@@ -174,32 +174,17 @@ pub(crate) struct RlsSlices<'a, T> {
 }
 
 impl<T: Real> RlsSlices<'_, T> {
-    /// [`update`](Self::update) over runs, as one shared routine: the copy that every model of
-    /// an identifier calls, whatever its size (a firmware carries 8 models).
+    /// [`update`](Self::update) as one shared routine per kind of support: over runs, the copy
+    /// that every model of an identifier calls, whatever its size (a firmware carries 8
+    /// models); over every parameter, the copy every estimator size calls when the build asks
+    /// for small code (`core/build.rs`).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    fn update_shared(
+    fn update_shared<S: ParameterSupport>(
         &mut self,
         xi: &[T],
         nz: &[u16],
-        support: &[Run],
-        m: Measurement<T>,
-        s1: &mut [T],
-        s2: &mut [T],
-        s3: &mut [T],
-    ) -> bool {
-        self.update(xi, nz, support, m, s1, s2, s3)
-    }
-
-    /// [`update`](Self::update) over every parameter, as one shared routine: the copy that
-    /// every estimator size calls when the build asks for small code (`core/build.rs`).
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn update_all(
-        &mut self,
-        xi: &[T],
-        nz: &[u16],
-        support: AllParameters,
+        support: S,
         m: Measurement<T>,
         s1: &mut [T],
         s2: &mut [T],
