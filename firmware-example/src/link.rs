@@ -11,8 +11,8 @@ use embedded_io::{Read, Write};
 use rotorid_link::{
     msg::{
         Ack, CompensateEachMsg, CompensateMsg, CostReport, CostRequest, DataChunk, FaultKind,
-        Hello, IdentRequest, MemoryReport, MsgType, Nack, NackReason, Payload, ResetMsg, SampleMsg,
-        StatsReport, SweepStart, Workload,
+        Hello, IdentRequest, MemoryReport, MsgType, Nack, NackReason, Payload, RateCompensation,
+        ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
@@ -257,26 +257,25 @@ fn handle<U: Write, P: Platform, T: Write>(
             },
             Err(_) => out.nack(seq, code, NackReason::BadPayload),
         },
-        Some(MsgType::Compensate) => match CompensateMsg::read(frame.payload) {
-            Ok(m) => match engine.compensate(&m.gyro_noise) {
-                Ok(()) => Reply::ack(out, seq, code),
-                Err(e) => {
-                    defmt::warn!("compensate refused: {}", e);
-                    out.nack(seq, code, NackReason::Refused)
-                }
-            },
-            Err(_) => out.nack(seq, code, NackReason::BadPayload),
-        },
-        Some(MsgType::CompensateEach) => match CompensateEachMsg::read(frame.payload) {
-            Ok(m) => match engine.compensate_each(&m.gyro_noise, m.how.map(Into::into)) {
-                Ok(()) => Reply::ack(out, seq, code),
-                Err(e) => {
-                    defmt::warn!("compensate each refused: {}", e);
-                    out.nack(seq, code, NackReason::Refused)
-                }
-            },
-            Err(_) => out.nack(seq, code, NackReason::BadPayload),
-        },
+        // `Compensate` is `CompensateEach` with damping on every rate.
+        Some(t @ (MsgType::Compensate | MsgType::CompensateEach)) => {
+            let request = if t == MsgType::Compensate {
+                CompensateMsg::read(frame.payload)
+                    .map(|m| (m.gyro_noise, [RateCompensation::Damping; 3]))
+            } else {
+                CompensateEachMsg::read(frame.payload).map(|m| (m.gyro_noise, m.how))
+            };
+            match request {
+                Ok((sigma, how)) => match engine.compensate_each(&sigma, how.map(Into::into)) {
+                    Ok(()) => Reply::ack(out, seq, code),
+                    Err(e) => {
+                        defmt::warn!("compensate refused: {}", e);
+                        out.nack(seq, code, NackReason::Refused)
+                    }
+                },
+                Err(_) => out.nack(seq, code, NackReason::BadPayload),
+            }
+        }
         Some(MsgType::ParamsRequest) => match IdentRequest::read(frame.payload) {
             Ok(r) => {
                 if let Some(thetas) = engine.thetas(r.ident) {

@@ -154,14 +154,9 @@ impl Mirror {
         })
     }
 
-    /// What the firmware does on `Compensate`: the active pair's rate models compensated for
-    /// the gyros' noise σ `[q r p]` (deg/s), in place.
-    pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), rotorid::Error> {
-        self.compensate_each(gyro_noise, [GyroCompensation::Damping; 3])
-    }
-
-    /// What the firmware does on `CompensateEach`: [`compensate`](Self::compensate) with a
-    /// choice per rate `[q r p]`.
+    /// What the firmware does on `Compensate` and `CompensateEach`: the active pair's rate
+    /// models compensated for the gyros' noise σ `[q r p]` (deg/s), in place, each rate as
+    /// `how` says (`Compensate`: damping on every rate).
     pub fn compensate_each(
         &mut self,
         gyro_noise: &[f32; 3],
@@ -411,11 +406,8 @@ impl Onboard {
     /// noise σ `[q r p]` (deg/s), the parameters to free-run with.
     pub fn compensate(&mut self, gyro_noise: [f32; 3]) -> Result<(), OnboardError> {
         let p = payload(|w| CompensateMsg { gyro_noise }.write(w));
-        let f = self.link.request(MsgType::Compensate, &p, MsgType::Ack)?;
-        expect_ack(&f, MsgType::Compensate)?;
-        self.mirror
-            .compensate(&gyro_noise)
-            .map_err(OnboardError::Core)
+        let how = [RateCompensation::Damping; 3];
+        self.compensate_as(MsgType::Compensate, &p, gyro_noise, how)
     }
 
     /// `CompensateEach` on both sides: [`compensate`](Self::compensate) with a choice per rate
@@ -426,10 +418,20 @@ impl Onboard {
         how: [RateCompensation; 3],
     ) -> Result<(), OnboardError> {
         let p = payload(|w| CompensateEachMsg { gyro_noise, how }.write(w));
-        let f = self
-            .link
-            .request(MsgType::CompensateEach, &p, MsgType::Ack)?;
-        expect_ack(&f, MsgType::CompensateEach)?;
+        self.compensate_as(MsgType::CompensateEach, &p, gyro_noise, how)
+    }
+
+    /// Sends the compensation request `p` of type `t`, and on its `Ack` compensates the
+    /// mirror as the firmware did.
+    fn compensate_as(
+        &mut self,
+        t: MsgType,
+        p: &[u8],
+        gyro_noise: [f32; 3],
+        how: [RateCompensation; 3],
+    ) -> Result<(), OnboardError> {
+        let f = self.link.request(t, p, MsgType::Ack)?;
+        expect_ack(&f, t)?;
         self.mirror
             .compensate_each(&gyro_noise, how.map(Into::into))
             .map_err(OnboardError::Core)

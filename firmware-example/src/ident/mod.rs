@@ -268,15 +268,11 @@ impl Identification {
         Ok(())
     }
 
-    /// `Compensate`: both identifiers of the active pair compensate their rate models for
-    /// the gyros' white noise σ `[q r p]` (deg/s) in place. The first is checked before the
-    /// second is changed, so on `Err` (σ refused) nothing changed.
-    pub fn compensate(&mut self, gyro_noise: &[f32; 3]) -> Result<(), Error> {
-        self.compensate_each(gyro_noise, [GyroCompensation::Damping; 3])
-    }
-
-    /// `CompensateEach`: [`compensate`](Self::compensate) with a choice per rate `[q r p]`
-    /// (`HoverIdentifier::compensate_each`). On `Err` nothing changed.
+    /// `Compensate` and `CompensateEach`: both identifiers of the active pair compensate
+    /// their rate models for the gyros' white noise σ `[q r p]` (deg/s) in place, each rate
+    /// as `how` says (`HoverIdentifier::compensate_each`; `Compensate` is damping on every
+    /// rate). The first is checked before the second is changed, so on `Err` (σ refused)
+    /// nothing changed.
     pub fn compensate_each(
         &mut self,
         gyro_noise: &[f32; 3],
