@@ -13,7 +13,7 @@ use rotorid::{
     PaperPlainIdentifier,
 };
 
-use super::selected::SelectedFlight;
+use super::mask::SelectedFlight;
 use super::selection::select_terms;
 use super::variants::{at, Variant};
 

@@ -24,9 +24,8 @@ use rotorid_sim::plant::SensorSample;
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::gyro_noise_of;
-use super::selection::{
-    block_length, geometric_mean, score, split, window_samples, Split, TermMask, FOLDS,
-};
+use super::mask::TermMask;
+use super::selection::{block_length, geometric_mean, score, split, window_samples, Split, FOLDS};
 
 /// Longest delay tried (s): a slow helicopter servo and the rotor's flapping lag together; a
 /// multicopter's motors are well within it.

@@ -15,7 +15,7 @@
 //!   [`MIN_WINDOWS_PER_BLOCK`] free-run windows, so below `2 FOLDS × 2` windows of training
 //!   data (24 s with 2 s windows) there is nothing to check on and every term stays.
 //! * A candidate is the flight default with some terms pinned at zero (each rule's prior
-//!   variance of the term set to zero, [`pin_to_zero`]: the onboard identifier keeps its fixed
+//!   variance of the term set to zero, [`pin_to_zero`](super::pin_to_zero): the onboard identifier keeps its fixed
 //!   sizes, and the exported state carries the choice, so a warm start flies it). It is learnt
 //!   on the learning blocks and scored by its free run ([`SELECTION_WINDOW_S`] windows) on the
 //!   check blocks, relative to holding the measured state: the geometric mean of
@@ -46,16 +46,13 @@
 //! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
 //! rate's control gain `γ` and damping `δ`.
 
-use rotorid::hover::{
-    flight_sets, unscheduled_sets, GyroCompensation, HoverSample, RateStructure, VelocityStructure,
-};
-use rotorid::rls::RlsState;
-use rotorid::{DynIdentifier, FlightIdentifier, HoverConfig};
+use rotorid::hover::{GyroCompensation, HoverSample};
+use rotorid::DynIdentifier;
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
-use super::selected::SelectedFlight;
-use super::variants::{at, Identifier};
+use super::mask::{SelectedFlight, TermMask};
+use super::variants::Identifier;
 
 /// Length of the blocks the training data are cut into (s), when the data hold `2 FOLDS` of
 /// them.
@@ -69,14 +66,6 @@ pub const FOLDS: usize = 3;
 /// different manoeuvres are the least that compares candidates on more than one instant.
 pub const MIN_WINDOWS_PER_BLOCK: usize = 2;
 
-/// The models in [`TermMask`] order, as named in `params-*.json`.
-pub const MODELS: [&str; 4] = ["velocity", "q", "r", "p"];
-
-/// Names of [`VelocityStructure::Flight`]'s terms, in θ order.
-pub const VELOCITY_TERMS: [&str; 8] = ["α1", "α2", "d_f", "d_r", "d_u", "σ0", "σ1", "α0"];
-/// Names of [`RateStructure::Flight`]'s terms in θ order (for r̂ the first is `𝕀|v|`).
-pub const RATE_TERMS: [&str; 7] = ["𝕀", "γ", "δ", "β", "c", "κ", "η"];
-
 /// The terms the selection may switch off, per model (indices into θ of one rule).
 const OPTIONAL: [&[usize]; 4] = [
     &[2, 3, 5, 6, 7],
@@ -87,126 +76,6 @@ const OPTIONAL: [&[usize]; 4] = [
 
 /// Axes (indices of `[v_x v_y v_z q r p]`) each model predicts.
 const AXES: [&[usize]; 4] = [&[0, 1, 2], &[3], &[4], &[5]];
-
-/// Which terms of each model are switched off: bit `i` of `off[m]` is term `i` of model
-/// `MODELS[m]`; and which models have one rule instead of three.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct TermMask {
-    /// Per model, the bits of the terms that are off.
-    pub off: [u8; 4],
-    /// Per model, whether its rules are off: one rule, not scheduled on the speed
-    /// ([`unscheduled_sets`]).
-    #[serde(default)]
-    pub one_rule: [bool; 4],
-    /// Per model, whether its free run and observer fly the parameters compensated for the
-    /// gyro noise fully ([`GyroCompensation::Full`]: the second-order term's noise too)
-    /// rather than the damping term's alone (only the rate models'; the velocity's is always
-    /// false).
-    #[serde(default)]
-    pub full_compensation: [bool; 4],
-}
-
-impl TermMask {
-    /// Whether term `term` of model `model` is off.
-    pub fn is_off(&self, model: usize, term: usize) -> bool {
-        self.off
-            .get(model)
-            .is_some_and(|bits| bits >> term & 1 == 1)
-    }
-
-    /// This mask with term `term` of model `model` off as well.
-    fn without(mut self, model: usize, term: usize) -> Self {
-        if let Some(bits) = self.off.get_mut(model) {
-            *bits |= 1 << term;
-        }
-        self
-    }
-
-    /// This mask with model `model`'s rules off (one rule).
-    fn with_one_rule(mut self, model: usize) -> Self {
-        if let Some(one) = self.one_rule.get_mut(model) {
-            *one = true;
-        }
-        self
-    }
-
-    /// Whether model `model` has one rule.
-    pub fn has_one_rule(&self, model: usize) -> bool {
-        self.one_rule.get(model).copied().unwrap_or(false)
-    }
-
-    /// This mask with model `model`'s gyro noise compensated fully.
-    fn with_full_compensation(mut self, model: usize) -> Self {
-        if let Some(full) = self.full_compensation.get_mut(model) {
-            *full = true;
-        }
-        self
-    }
-
-    /// The compensation of each rate `[q r p]` ([`HoverIdentifier::compensate_each`]'s order).
-    ///
-    /// [`HoverIdentifier::compensate_each`]: rotorid::HoverIdentifier::compensate_each
-    pub fn compensation(&self) -> [GyroCompensation; 3] {
-        // The rate models are models 1, 2, 3 in [`MODELS`]: q, r, p.
-        core::array::from_fn(|axis| match self.full_compensation.get(axis + 1) {
-            Some(true) => GyroCompensation::Full,
-            _ => GyroCompensation::Damping,
-        })
-    }
-
-    /// The names of the terms that are off, per model (`"r: 𝕀|v|"`, …), a model with one rule
-    /// first as `"p: rules"`.
-    pub fn describe(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        for (m, model) in MODELS.iter().enumerate() {
-            if self.has_one_rule(m) {
-                out.push(format!("{model}: rules"));
-            }
-            let names: &[&str] = if m == 0 { &VELOCITY_TERMS } else { &RATE_TERMS };
-            for (t, name) in names.iter().enumerate() {
-                if self.is_off(m, t) {
-                    let name = if m == 2 && t == 0 { "𝕀|v|" } else { name };
-                    out.push(format!("{model}: {name}"));
-                }
-            }
-        }
-        out
-    }
-
-    /// The mask a flight identifier's exported parameters carry: a term is off when every
-    /// rule's prior variance of it is exactly zero (learning never makes a positive variance
-    /// zero); a model has one rule when its sets are [`unscheduled_sets`]. Empty for
-    /// parameters that are not the flight structure's.
-    pub fn of_parameters(parameters: &[super::ModelParameters]) -> Self {
-        let mut mask = Self::default();
-        let unscheduled = super::PremiseParameters::sets_of(&unscheduled_sets::<f32>());
-        for (m, p) in parameters.iter().enumerate().take(4) {
-            if p.premise.as_ref().and_then(|q| q.variables.first()) == Some(&unscheduled) {
-                mask = mask.with_one_rule(m);
-            }
-            let d = if m == 0 {
-                VELOCITY_TERMS.len()
-            } else {
-                RATE_TERMS.len()
-            };
-            let per_rule = d * (d + 1) / 2;
-            if p.factor.is_empty() || p.factor.len() % per_rule != 0 {
-                continue;
-            }
-            for t in 0..d {
-                let diagonal = t * (t + 1) / 2 + t;
-                let off = p
-                    .factor
-                    .chunks(per_rule)
-                    .all(|rule| rule.get(diagonal).is_some_and(|&v| v == 0.0));
-                if off {
-                    mask = mask.without(m, t);
-                }
-            }
-        }
-        mask
-    }
-}
 
 /// What the selection found.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -221,60 +90,6 @@ pub struct TermSelection {
     pub candidates: usize,
     /// Samples learnt and held out to check.
     pub samples: (usize, usize),
-}
-
-/// Sets each untrained rule's prior variance of parameter `term` to zero (the U-D factor's
-/// `D_term`; U is still the identity, so nothing else changes). A parameter with zero variance
-/// gets zero gain, so it stays exactly 0 and least squares fits the other terms as if it were
-/// absent; its covariance with them stays zero, so the gyro-noise compensation leaves it at 0
-/// too.
-pub fn pin_to_zero<const D: usize, const DP: usize>(
-    rules: &mut [RlsState<f32, D, DP>],
-    term: usize,
-) {
-    // Packed upper triangle, column by column: entry (i, k) at k(k + 1)/2 + i.
-    let diagonal = term * (term + 1) / 2 + term;
-    for rule in rules {
-        if let Some(d) = rule.factor.get_mut(diagonal) {
-            *d = 0.0;
-        }
-    }
-}
-
-/// A fresh flight default (the core's [`FlightIdentifier::flight`] at `period_us`) with the
-/// terms of `mask` pinned at zero.
-pub fn masked_flight(
-    mask: TermMask,
-    period_us: u32,
-) -> Result<FlightIdentifier<f32>, rotorid::Error> {
-    let sets = core::array::from_fn(|m| {
-        if mask.has_one_rule(m) {
-            unscheduled_sets()
-        } else {
-            flight_sets()
-        }
-    });
-    let mut flight =
-        FlightIdentifier::<f32>::flight_per_model(at(HoverConfig::default(), period_us), sets)?;
-    if mask.off == [0; 4] {
-        return Ok(flight);
-    }
-    let mut snapshot = flight.export();
-    for t in 0..VelocityStructure::Flight.terms() {
-        if mask.is_off(0, t) {
-            pin_to_zero(&mut snapshot.velocity, t);
-        }
-    }
-    let rates = [&mut snapshot.pitch, &mut snapshot.yaw, &mut snapshot.roll];
-    for (m, rules) in rates.into_iter().enumerate() {
-        for t in 0..RateStructure::Flight.terms() {
-            if mask.is_off(m + 1, t) {
-                pin_to_zero(rules, t);
-            }
-        }
-    }
-    flight.import(&snapshot)?;
-    Ok(flight)
 }
 
 /// The training data cut into learning chains and held-out check blocks (see the module
@@ -551,28 +366,6 @@ pub fn select_terms_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiments::Identifier;
-
-    #[test]
-    fn masks_name_their_terms_and_read_back_from_parameters() {
-        let mask = TermMask::default()
-            .without(0, 7)
-            .without(2, 0)
-            .with_one_rule(2)
-            .without(3, 6);
-        assert_eq!(
-            mask.describe(),
-            ["velocity: α0", "r: rules", "r: 𝕀|v|", "p: η"]
-        );
-        let id = masked_flight(mask, 20_000).unwrap();
-        let params = Identifier::parameters(&id);
-        assert_eq!(TermMask::of_parameters(&params), mask);
-        let full = masked_flight(TermMask::default(), 20_000).unwrap();
-        assert_eq!(
-            TermMask::of_parameters(&Identifier::parameters(&full)),
-            TermMask::default()
-        );
-    }
 
     /// A removal counts as better beyond noise only when the paired block differences say so:
     /// a consistent 10 % gain passes at two standard errors; a larger mean gain that swings
