@@ -4,11 +4,10 @@ logs (scripts/ardupilot-sitl.sh).
 Arguments: OUTPUT, then one LOG|RUN_DIR per log (RUN_DIR holds metrics.json when the run
 succeeded, stdout.txt, stderr.txt and status).
 """
-import json
 import os
 import sys
 
-from import_report import import_lines
+from import_report import import_lines, load_run
 
 AXES = ["east velocity (m/s)", "down velocity (m/s)", "north velocity (m/s)",
         "pitch rate q (deg/s)", "yaw rate r (deg/s)", "roll rate p (deg/s)"]
@@ -29,15 +28,11 @@ def section(log, run):
     name = os.path.basename(log)
     kind = next((v for k, v in FLIGHTS.items() if k in name), "flight")
     lines = [f"## `{name}` ({kind})", ""]
-    status = int(open(os.path.join(run, "status")).read().strip())
-    stderr = open(os.path.join(run, "stderr.txt")).read().splitlines()
     stdout = open(os.path.join(run, "stdout.txt")).read().splitlines()
-    if status != 0:
-        err = [l for l in stderr if l.startswith("error:")]
-        lines += ["Not identified. The tool's one line:", "", "```text",
-                  *(l.replace(os.path.dirname(log) + "/", "") for l in err), "```", ""]
-        return lines
-    m = json.load(open(os.path.join(run, "metrics.json")))
+    m, failed = load_run(log, run)
+    if failed:
+        return lines + failed
+    stderr = open(os.path.join(run, "stderr.txt")).read().splitlines()
     lines += import_lines(m)
     lines.append("")
     v = {x["name"]: x for x in m["variants"]}

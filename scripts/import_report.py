@@ -1,6 +1,22 @@
 """What `rotorid identify` did to a log before identifying it, as report lines: shared by
 scripts/real_logs_report.py and scripts/ardupilot_sitl_report.py."""
 
+import json
+import os
+
+
+def load_run(log, run):
+    """`identify`'s run on LOG kept in directory RUN (status, stderr.txt, metrics.json):
+    (metrics, None) when it identified the log, else (None, the report's lines quoting the
+    tool's one error line)."""
+    status = int(open(os.path.join(run, "status")).read().strip())
+    if status == 0:
+        return json.load(open(os.path.join(run, "metrics.json"))), None
+    stderr = open(os.path.join(run, "stderr.txt")).read().splitlines()
+    err = [l for l in stderr if l.startswith("error:")]
+    return None, ["Not identified. The tool's one line:", "", "```text",
+                  *(l.replace(os.path.dirname(log) + "/", "") for l in err), "```", ""]
+
 
 def fmt_rate(r):
     return "—" if r is None else f"{r:.1f} Hz"

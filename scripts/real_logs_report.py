@@ -7,7 +7,7 @@ import json
 import os
 import sys
 
-from import_report import import_lines
+from import_report import import_lines, load_run
 
 AXES = ["east velocity (m/s)", "down velocity (m/s)", "north velocity (m/s)",
         "pitch rate q (deg/s)", "yaw rate r (deg/s)", "roll rate p (deg/s)"]
@@ -17,14 +17,10 @@ ORDER = [2, 0, 1, 5, 3, 4]
 def section(log, run):
     name = os.path.basename(log)
     lines = [f"## `{name}`", ""]
-    status = int(open(os.path.join(run, "status")).read().strip())
+    m, failed = load_run(log, run)
+    if failed:
+        return lines + failed
     stderr = open(os.path.join(run, "stderr.txt")).read().splitlines()
-    if status != 0:
-        err = [l for l in stderr if l.startswith("error:")]
-        lines += ["Not identified. The tool's one line:", "", "```text",
-                  *(l.replace(os.path.dirname(log) + "/", "") for l in err), "```", ""]
-        return lines
-    m = json.load(open(os.path.join(run, "metrics.json")))
     lines += import_lines(m)
     lines.append("")
     v = {x["name"]: x for x in m["variants"]}
