@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use rotorid_cli::import::{self, dataflash, sdlog2, synth, ulog, ImportError, LogFormat};
+use rotorid_cli::import::{self, dataflash, sdlog2, synth, ulog, ImportError, LogFormat, NotALog};
 use rotorid_sim::plant::SensorSample;
 
 fn tmpdir(name: &str) -> PathBuf {
@@ -383,6 +383,18 @@ fn git_lfs_pointers_and_binary_files_are_named_for_what_they_are() {
     let e = import_bytes(&dir, "blob.ulg", &binary).expect_err("binary");
     assert!(matches!(e, ImportError::NotALog { .. }), "{e:?}");
     assert!(e.to_string().contains("not a ULog, DataFlash or CSV log"));
+    // ArduPilot's text log and JSON exports are named, not read as a CSV missing `time_s`.
+    let text_log = b"58\n\nArduCopter V3.0.1\nFree RAM: 1273\nFMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns\nFMT, 129, 23, PARM, Nf, Name,Value\n";
+    let e = import_bytes(&dir, "flight.log", text_log).expect_err("text DataFlash");
+    assert!(matches!(e, ImportError::TextDataFlash { .. }), "{e:?}");
+    assert!(e.to_string().contains(".bin") && !e.to_string().contains("time_s"));
+    let json = b"{\"meta\": {\"timestamp\": 1.0, \"type\": \"ATT\"}, \"data\": {\"Roll\": 0.1}}\n";
+    let e = import_bytes(&dir, "flight.json", json).expect_err("JSON");
+    assert!(matches!(e, ImportError::Json { .. }), "{e:?}");
+    assert_eq!(
+        import::detect(b"\n# comment\nFMT,1\n"),
+        Err(NotALog::TextDataFlash)
+    );
     // Text stays CSV (and its error is the CSV reader's).
     assert_eq!(import::detect(b"time_s,u_col\n0,0.5\n"), Ok(LogFormat::Csv));
     // UTF-8 cut inside a character at the end of the head, or Latin-1, is still text.

@@ -257,6 +257,28 @@ fn a_log_cut_away_entirely_says_so() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A channel out of its range throughout (here a collective logged 0…1000, as ArduCopter 3.3
+/// wrote it, by a firmware the log does not name) is refused for what the cuts did, with a
+/// hint at its units, not blamed on gaps in the data or on the ground.
+#[test]
+fn a_channel_out_of_range_throughout_says_so() {
+    let mut flight = heli_flight(6.0);
+    flight.iter_mut().for_each(|s| s.sticks.col *= 1000.0);
+    let dir = tmpdir("units");
+    let path = dir.join("units.bin");
+    std::fs::write(&path, synth::dataflash(&flight, true)).expect("write");
+    let e = import::import(&path).expect_err("no plausible collective");
+    assert!(matches!(e, ImportError::AllCut { .. }), "{e:?}");
+    let text = e.to_string();
+    assert!(text.contains("collective command"), "{text}");
+    assert!(text.contains("other units"), "{text}");
+    assert!(
+        !text.contains("gap") && !text.contains("left the ground"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A loss of control (the attitude 45° off the autopilot's demand for 0.2 s) is cut with a
 /// second on each side and named, in a DataFlash log (`ATT` `DesRoll DesPitch`) and in the
 /// real PX4 log whose quadrotor tumbles at the end (`vehicle_attitude_setpoint`).

@@ -5,9 +5,9 @@
 //! | quantity | message and fields | unit in the log → here |
 //! |---|---|---|
 //! | attitude | `ANG` `Roll Pitch Yaw` (ArduPilot 4.7 on), else `ATT` `Roll Pitch Yaw` (ZYX Euler, yaw 0…360) | deg → rad, yaw wrapped to (−π, π] |
-//! | velocity | `XKF1` `VN VE VD` (EKF3, core `C` = 0); older logs `NKF1` (EKF2) | m/s |
-//! | body rates | `RATE` `R P Y` (the rate controller's measured rates, FRD) | deg/s → rad/s |
-//! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + collective `RATE` `AOut` (0…1; else `CTUN` `ThO`, held) | — |
+//! | velocity | `XKF1` `VN VE VD` (EKF3, core `C` = 0); older logs `NKF1` (EKF2), ArduCopter 3.2–3.4 `EKF1` | m/s |
+//! | body rates | `RATE` `R P Y` (the rate controller's measured rates, FRD) | deg/s → rad/s (ArduCopter 3.3: centidegrees/s) |
+//! | controls | `RATE` `YOut POut ROut` (rate controller outputs, −1…1) + collective `RATE` `AOut` (0…1; else `CTUN` `ThO`, held) | — (ArduCopter 3.3: outputs ±4500, `AOut` 0…1000, scaled) |
 //! | attitude error | `ANG` or `ATT` `DesRoll Roll DesPitch Pitch`: the larger of the roll and pitch errors (for [`lost_control_cuts`](super::clean::lost_control_cuts)) | deg → rad |
 //! | in air | `EV` `Id` (10 armed, 28 not landed → 1; 11 disarmed, 18 land complete → 0) and `ARM` `ArmState` (≠ 0 → 1) | 1 / 0 |
 //!
@@ -22,6 +22,13 @@
 //! Likewise the attitude: from ArduPilot 4.7 `ATTITUDE_FAST` writes the AHRS attitude with the
 //! attitude controller's targets as `ANG` (at the `RATE` rate) and `ATT` only at 10 Hz, so `ANG`
 //! is taken when the log has it.
+//!
+//! Older logs: ArduCopter 3.3, the first to write `RATE`, wrote it from its own
+//! `Copter::Log_Write_Rate` with the rates in centidegrees/s and the motors library's outputs in
+//! its integer ranges (roll, pitch, yaw ±4500, throttle 0…1000); 3.4 moved it to the logging
+//! library in deg/s and ±1, 0…1. Which firmware wrote the log is read from its `MSG` records
+//! (up to 3.1 they carry no time stamp; an `EV` without one takes the last record's time), and
+//! a 3.3 log's `RATE` is scaled to the later units, with a note.
 
 pub mod reader;
 
@@ -62,13 +69,29 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     };
     // The firmware's name from its first `MSG` ("ArduPlane V4.2.3", "APM:Copter V3.4.4").
     let mut firmware: Option<String> = None;
+    // ArduCopter 3.2–3.4's EKF velocity, used without `XKF1` and `NKF1`.
+    let mut ekf1 = Series::<3>::default();
+    // The time of the last record that had one, for the events that have none (up to 3.1).
+    let mut last_t: Option<f64> = None;
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     while let Some(e) = reader.next_record().map_err(err)? {
-        let Some(t) = e.time_us().map(|us| us / 1e6) else {
+        let name = e.format.name.as_str();
+        if name == "MSG" && firmware.is_none() {
+            firmware = e
+                .text("Message")
+                .filter(|m| m.starts_with("Ardu") || m.starts_with("APM:"))
+                .map(|m| m.split(" (").next().unwrap_or_default().to_string());
+        }
+        let Some(t) = e
+            .time_us()
+            .map(|us| us / 1e6)
+            .or(last_t.filter(|_| name == "EV"))
+        else {
             continue;
         };
-        match e.format.name.as_str() {
+        last_t = Some(t);
+        match name {
             "ATT" => {
                 if let Some([r, p, y]) = e.fields(["Roll", "Pitch", "Yaw"]) {
                     ch.attitude.push(t, [r * deg, p * deg, wrap_deg(y)]);
@@ -95,6 +118,11 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                     ekf2.push(t, v);
                 }
             }
+            "EKF1" => {
+                if let Some(v) = e.fields(["VN", "VE", "VD"]) {
+                    ekf1.push(t, v);
+                }
+            }
             "RATE" => {
                 if let Some([r, p, y]) = e.fields(["R", "P", "Y"]) {
                     ch.rates_frd.push(t, [r * deg, p * deg, y * deg]);
@@ -116,12 +144,6 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
                 Some(11.0 | 18.0) => ch.in_air.push(t, [0.0]),
                 _ => {}
             },
-            "MSG" if firmware.is_none() => {
-                firmware = e
-                    .text("Message")
-                    .filter(|m| m.starts_with("Ardu") || m.starts_with("APM:"))
-                    .map(|m| m.split(" (").next().unwrap_or_default().to_string());
-            }
             "ARM" => {
                 if let Some(s) = e.get("ArmState") {
                     ch.in_air.push(t, [if s != 0.0 { 1.0 } else { 0.0 }]);
@@ -136,8 +158,27 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
             reason: Malformation::NoRecords,
         }));
     }
-    let notes = reader.issues().notes(file);
-    ch.velocity_ned = if ekf3.t.is_empty() { ekf2 } else { ekf3 };
+    let mut notes = reader.issues().notes(file);
+    ch.velocity_ned = [ekf3, ekf2, ekf1]
+        .into_iter()
+        .find(|v| !v.t.is_empty())
+        .unwrap_or_default();
+    if let Some(name) = firmware.as_deref().filter(|f| legacy_rate_units(f)) {
+        if !ch.rates_frd.t.is_empty() || !outs.t.is_empty() {
+            for w in &mut ch.rates_frd.v {
+                w.iter_mut().for_each(|x| *x /= 100.0);
+            }
+            for u in &mut outs.v {
+                u.iter_mut().for_each(|x| *x /= 4500.0);
+            }
+            for c in &mut collective.v {
+                c[0] /= 1000.0;
+            }
+            notes.push(format!(
+                "{file}: written by {name}, whose `RATE` holds the rates in centidegrees/s, the outputs in ±4500 and `AOut` in 0…1000 (ArduCopter 3.3): scaled to deg/s, ±1 and 0…1"
+            ));
+        }
+    }
     if collective.t.is_empty() {
         collective = collective_ctun;
     }
@@ -155,7 +196,7 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         ),
         (
             ch.velocity_ned.t.is_empty(),
-            ("velocity", "`XKF1` or `NKF1` `VN VE VD`"),
+            ("velocity", "`XKF1`, `NKF1` or `EKF1` `VN VE VD`"),
         ),
         (ch.rates_frd.t.is_empty(), ("body rates", "`RATE` `R P Y`")),
         (
@@ -172,6 +213,26 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         return Err(e);
     }
     Ok((ch, notes))
+}
+
+/// The version `(major, minor)` of ArduCopter that `firmware` (its `MSG` name, "APM:Copter
+/// V3.3.3", "ArduCopter V4.7.0-dev") names, `None` for another firmware.
+pub(super) fn arducopter_version(firmware: &str) -> Option<(u32, u32)> {
+    if !(firmware.starts_with("APM:Copter") || firmware.starts_with("ArduCopter")) {
+        return None;
+    }
+    let v = firmware
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix('V'))?;
+    let mut parts = v.split(|c: char| !c.is_ascii_digit());
+    let mut next = || parts.next().and_then(|p| p.parse::<u32>().ok());
+    Some((next()?, next()?))
+}
+
+/// Whether a log written by `firmware` holds `RATE` in ArduCopter 3.3's units (see the
+/// [module docs](self)): Copter below 3.4.
+fn legacy_rate_units(firmware: &str) -> bool {
+    arducopter_version(firmware).is_some_and(|v| v < (3, 4))
 }
 
 #[cfg(test)]
@@ -270,6 +331,110 @@ mod tests {
             "{text}"
         );
         assert!(!text.contains("c0ffee00"), "{text}");
+    }
+
+    #[test]
+    fn only_arducopter_before_3_4_has_the_old_rate_units() {
+        for (firmware, legacy) in [
+            ("APM:Copter V3.3.3", true),
+            ("APM:Copter V3.3-dev", true),
+            ("APM:Copter V3.2.1", true),
+            ("ArduCopter V3.4.0", false),
+            ("APM:Copter V3.4.4", false),
+            ("ArduCopter V4.7.0-dev", false),
+            ("ArduPlane V3.3.0", false),
+            ("APM:Copter", false),
+        ] {
+            assert_eq!(legacy_rate_units(firmware), legacy, "{firmware}");
+        }
+    }
+
+    /// An ArduCopter 3.3 log: a `MSG` without a time stamp names the firmware, `EKF1` holds the
+    /// velocity, `RATE` is in centidegrees/s, ±4500 and 0…1000 (scaled, with a note), and an
+    /// `EV` without a time stamp takes the last record's.
+    #[test]
+    fn an_arducopter_3_3_log_reads_in_the_later_units() {
+        let mut buf = Vec::new();
+        fmt(&mut buf, 0x81, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
+        fmt(
+            &mut buf,
+            0x82,
+            "EKF1",
+            "Qffffff",
+            "TimeUS,Roll,Pitch,Yaw,VN,VE,VD",
+            32,
+        );
+        fmt(
+            &mut buf,
+            0x83,
+            "RATE",
+            "Qfffffff",
+            "TimeUS,R,P,Y,ROut,POut,YOut,AOut",
+            36,
+        );
+        fmt(&mut buf, 0x86, "MSG", "Z", "Message", 67);
+        fmt(&mut buf, 0x87, "EV", "B", "Id", 4);
+        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
+        buf.extend_from_slice(&padded::<64>("APM:Copter V3.3.3 (d6053245)"));
+        for k in 0..50u64 {
+            let t = 1_000_000 + k * 20_000;
+            row(&mut buf, 0x81, t, &[0.0, 0.0, 10.0]);
+            row(&mut buf, 0x82, t, &[0.0, 0.0, 10.0, 1.5, -0.5, 0.25]);
+            row(
+                &mut buf,
+                0x83,
+                t,
+                &[1000.0, -500.0, 250.0, 450.0, -900.0, 2250.0, 600.0],
+            );
+            if k == 10 {
+                buf.extend_from_slice(&[0xA3, 0x95, 0x87, 10]);
+            }
+        }
+        let (ch, notes) = channels("ac33.bin", &buf[..]).expect("imports");
+        assert_eq!(ch.velocity_ned.t.len(), 50);
+        assert_eq!(ch.velocity_ned.v[0], [1.5, -0.5, 0.25]);
+        let deg = std::f64::consts::PI / 180.0;
+        let w = ch.rates_frd.v[0];
+        for (got, want) in w.iter().zip([10.0 * deg, -5.0 * deg, 2.5 * deg]) {
+            assert!((got - want).abs() < 1e-12, "{w:?}");
+        }
+        // [collective, pedal, longitudinal, lateral].
+        let u = ch.controls.v[0];
+        for (got, want) in u.iter().zip([0.6, 0.5, -0.2, 0.1]) {
+            assert!((got - want).abs() < 1e-6, "{u:?}");
+        }
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("written by APM:Copter V3.3.3") && n.contains("scaled")),
+            "{notes:?}"
+        );
+        assert_eq!(ch.in_air.t, vec![1.2]);
+        assert_eq!(ch.in_air.v, vec![[1.0]]);
+    }
+
+    /// ArduCopter before 3.3 writes no `RATE`: the error says so rather than only that the
+    /// message is missing.
+    #[test]
+    fn a_log_of_arducopter_before_3_3_says_it_cannot_be_identified() {
+        let mut buf = Vec::new();
+        fmt(&mut buf, 0x81, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
+        fmt(&mut buf, 0x82, "EKF1", "Qfff", "TimeUS,VN,VE,VD", 20);
+        fmt(&mut buf, 0x86, "MSG", "Z", "Message", 67);
+        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
+        buf.extend_from_slice(&padded::<64>("ArduCopter V3.2.1 (36b405fb)"));
+        for k in 0..10u64 {
+            let t = 1_000_000 + k * 20_000;
+            row(&mut buf, 0x81, t, &[0.0, 0.0, 10.0]);
+            row(&mut buf, 0x82, t, &[0.0, 0.0, 0.0]);
+        }
+        let text = channels("ac32.bin", &buf[..])
+            .expect_err("no RATE")
+            .to_string();
+        assert!(text.contains("no body rates"), "{text}");
+        assert!(text.contains("written by ArduCopter V3.2.1"), "{text}");
+        assert!(text.contains("from 3.3 on"), "{text}");
+        assert!(!text.contains("no velocity"), "{text}");
     }
 
     #[test]

@@ -5,8 +5,8 @@
 //!
 //! The format is told by the file's first bytes ([`detect`]): ULog magic `ULog\x01\x12\x35`;
 //! DataFlash framing `0xA3 0x95`, an old PX4 `sdlog2` log when its formats say so
-//! ([`sdlog2::is_sdlog2`]); text is read as CSV ([`crate::log`]), except a Git LFS pointer;
-//! anything else is refused. Files are streamed, never read whole into memory. A CSV log is
+//! ([`sdlog2::is_sdlog2`]); text is read as CSV ([`crate::log`]), except a Git LFS pointer and
+//! the text and JSON exports of other formats, which are named; anything else is refused. Files are streamed, never read whole into memory. A CSV log is
 //! taken as it is at 50 Hz; at another rate (its mean interval off by more than
 //! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
 
@@ -72,6 +72,18 @@ pub enum ImportError {
         /// The file.
         file: String,
     },
+    /// The file is ArduPilot's DataFlash log converted to text.
+    #[error("{file}: ArduPilot's DataFlash log as text (`FMT, …` lines: Mission Planner's .log or mavlogdump's output), which rotorid does not read: give it the binary .bin the flight controller wrote (its SD card's APM/LOGS, or download the log as .bin)")]
+    TextDataFlash {
+        /// The file.
+        file: String,
+    },
+    /// The file is a JSON export of a log.
+    #[error("{file}: a JSON export of a log (mavlogdump.py --format json, say), which rotorid does not read: give it the log it came from (.bin, .ulg) or a CSV (docs/log-format.md)")]
+    Json {
+        /// The file.
+        file: String,
+    },
     /// The file is binary and in none of the formats.
     #[error("{file}: not a ULog, DataFlash or CSV log (binary data without the ULog or DataFlash magic bytes)")]
     NotALog {
@@ -104,12 +116,15 @@ pub enum ImportError {
     },
     /// There were stretches with every channel, but the cuts (ground time, implausible values,
     /// `--from`/`--to`) left out every one of them.
-    #[error("{file}: nothing left after the cuts: {reasons} (the log may never have left the ground; `--from S --to S` replaces the in-air detector)")]
+    #[error("{file}: nothing left after the cuts: {reasons} ({hint})")]
     AllCut {
         /// The file.
         file: String,
         /// The cuts' distinct reasons, `; `-separated.
         reasons: String,
+        /// What to look at: the in-air detector, or the units of a channel that was out of
+        /// its range throughout.
+        hint: &'static str,
     },
     /// A resampled value fails the CSV format's checks.
     #[error("{file}: at t = {t:.3} s, `{column}`: {kind}")]
@@ -179,7 +194,11 @@ fn firmware_remark(firmware: &Option<String>) -> String {
         return String::new();
     };
     let rotorcraft = ["Copter", "Heli", "PX4"].iter().any(|k| f.contains(k));
-    if rotorcraft {
+    if dataflash::arducopter_version(f).is_some_and(|v| v < (3, 3)) {
+        format!(
+            " (written by {f}: ArduCopter logs `RATE`, its rate controller's rates and outputs, from 3.3 on, so no log of an older version can be identified)"
+        )
+    } else if rotorcraft {
         format!(" (written by {f})")
     } else {
         format!(
@@ -272,6 +291,11 @@ pub enum NotALog {
     LfsPointer,
     /// Binary data in none of the formats.
     Binary,
+    /// ArduPilot's DataFlash log as text (`FMT, 128, 89, …` lines: Mission Planner's `.log`,
+    /// or `mavlogdump.py` without `--format`).
+    TextDataFlash,
+    /// A JSON export (`mavlogdump.py --format json`, a flight-review download).
+    Json,
 }
 
 /// The format of a file from its first bytes (up to [`HEAD_LEN`]; fewer only when the file
@@ -299,7 +323,26 @@ pub fn detect(head: &[u8]) -> Result<LogFormat, NotALog> {
         .filter(|&&b| (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c)) || b == 0x7f)
         .count();
     if head.contains(&0) || controls * 100 > head.len() {
-        Err(NotALog::Binary)
+        return Err(NotALog::Binary);
+    }
+    // The first lines that are neither blank nor CSV comments tell a CSV log (its header
+    // first) from the text exports of other formats: ArduPilot's text log has `FMT, …` lines
+    // after a few lines of preamble (the firmware's name, free memory).
+    let mut lines = head
+        .split(|&b| b == b'\n')
+        .map(|l| l.trim_ascii())
+        .filter(|l| !l.is_empty() && !l.starts_with(b"#"))
+        .take(20);
+    let first = lines.next().unwrap_or_default();
+    let csv_header = first.windows(6).any(|w| w == b"time_s");
+    if !csv_header
+        && std::iter::once(first)
+            .chain(lines)
+            .any(|l| l.starts_with(b"FMT,"))
+    {
+        Err(NotALog::TextDataFlash)
+    } else if first.starts_with(b"{") || first.starts_with(b"[") {
+        Err(NotALog::Json)
     } else {
         Ok(LogFormat::Csv)
     }
@@ -334,6 +377,12 @@ fn read_log(path: &Path, file: &str) -> Result<(LogFormat, Reading), ImportError
             file: file.to_string(),
         },
         NotALog::Binary => ImportError::NotALog {
+            file: file.to_string(),
+        },
+        NotALog::TextDataFlash => ImportError::TextDataFlash {
+            file: file.to_string(),
+        },
+        NotALog::Json => ImportError::Json {
             file: file.to_string(),
         },
     })?;
@@ -404,7 +453,21 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
             clean::rate_advice(format)
         ));
     }
+    let lengths = |c: &Channels| {
+        [
+            c.attitude.t.len(),
+            c.velocity_ned.t.len(),
+            c.rates_frd.t.len(),
+            c.controls.t.len(),
+        ]
+    };
+    let before = lengths(&channels);
     let mut cuts = clean::implausible_cuts(&mut channels);
+    // A channel that was implausible throughout: then the cuts, not gaps, left nothing.
+    let emptied = lengths(&channels)
+        .iter()
+        .zip(before)
+        .any(|(&after, before)| after == 0 && before > 0);
     cuts.extend(clean::lost_control_cuts(&channels));
     let clamped = clean::saturate_controls(&mut channels);
     if clamped > 0 {
@@ -430,16 +493,24 @@ pub fn import_with(path: &Path, options: &ImportOptions) -> Result<Imported, Imp
     }
     if segments.is_empty() && !cuts.is_empty() {
         // Say that the cuts, not gaps in the data, left nothing (when there was something).
-        if !resample::resample_at(&channels, rate_hz, &[]).is_empty() {
+        if emptied || !resample::resample_at(&channels, rate_hz, &[]).is_empty() {
             let mut reasons: Vec<&str> = Vec::new();
             for c in &cuts {
                 if !reasons.contains(&c.reason.as_str()) {
                     reasons.push(&c.reason);
                 }
             }
+            let hint = if emptied {
+                "a channel was out of its range throughout: the log may hold it in other units \
+                 than docs/log-format.md says this format has (an older firmware's, say)"
+            } else {
+                "the log may never have left the ground; `--from S --to S` replaces the in-air \
+                 detector"
+            };
             return Err(ImportError::AllCut {
                 file,
                 reasons: reasons.join("; "),
+                hint,
             });
         }
     }

@@ -292,7 +292,13 @@ impl<R: Read> Reader<R> {
             self.formats[usize::from(kind)] = None;
             return;
         }
-        let label_count = labels.split(',').count();
+        // An empty label list is no labels (ArduCopter up to 3.2 writes `STRT` so), not one
+        // empty label.
+        let label_count = if labels.is_empty() {
+            0
+        } else {
+            labels.split(',').count()
+        };
         if label_count != chars.len() {
             self.issues.add("FMT labels", offset, || {
                 format!(
@@ -437,6 +443,24 @@ mod tests {
         assert_eq!(["n", "N", "Z", "a"].map(|l| rec.get(l)), [None; 4]);
         assert_eq!(rec.get("v"), Some(2.5));
         assert!(r.issues().items().is_empty(), "{:?}", r.issues());
+    }
+
+    /// ArduCopter up to 3.2 defines `STRT` with no fields at all: no format characters and
+    /// no labels, which is no mismatch to remark on.
+    #[test]
+    fn a_format_without_fields_reads_without_a_remark() {
+        let mut log = fmt(10, 3, "STRT", "", "");
+        log.extend_from_slice(&[0xA3, 0x95, 10]);
+        let mut r = Reader::new(log.as_slice());
+        let rec = r.next_record().expect("reads").expect("a record");
+        assert_eq!(rec.format.name, "STRT");
+        assert!(r.next_record().expect("reads").is_none());
+        assert!(r.issues().items().is_empty(), "{:?}", r.issues());
+        // Labels without characters are still a mismatch.
+        let log = fmt(11, 3, "BAD", "", "a,b");
+        let mut r = Reader::new(log.as_slice());
+        assert!(r.next_record().expect("reads").is_none());
+        assert_eq!(r.issues().items().len(), 1, "{:?}", r.issues());
     }
 
     #[test]
