@@ -617,9 +617,44 @@ fn write_fuzz_seeds() {
     let mut events = synth::dataflash(&short, true);
     events.extend(fmt(0x90, 3 + 9, b"EV", b"QB", b"TimeUS,Id"));
     events.extend([&[0xA3, 0x95, 0x90][..], &1_100_000u64.to_le_bytes(), &[10]].concat());
+    // ArduCopter 3.3: an untimed `MSG` naming it, `STRT` without fields, the velocity in
+    // `EKF1`, `RATE` in its old units, an untimed `EV`.
+    let mut ac33 = fmt(0x81, 3 + 8 + 12, b"ATT", b"Qfff", b"TimeUS,Roll,Pitch,Yaw");
+    ac33.extend(fmt(0x82, 3 + 8 + 12, b"EKF1", b"Qfff", b"TimeUS,VN,VE,VD"));
+    ac33.extend(fmt(
+        0x83,
+        3 + 8 + 28,
+        b"RATE",
+        b"Qfffffff",
+        b"TimeUS,R,P,Y,ROut,POut,YOut,AOut",
+    ));
+    ac33.extend(fmt(0x84, 3 + 64, b"MSG", b"Z", b"Message"));
+    ac33.extend(fmt(0x85, 3 + 1, b"EV", b"B", b"Id"));
+    ac33.extend(fmt(0x86, 3, b"STRT", b"", b""));
+    let mut message = b"APM:Copter V3.3.3 (d6053245)".to_vec();
+    message.resize(64, 0);
+    ac33.extend([&[0xA3, 0x95, 0x84][..], &message, &[0xA3, 0x95, 0x86]].concat());
+    for k in 0..40u64 {
+        let t = (1_000_000 + k * 20_000).to_le_bytes();
+        let row = |kind: u8, values: &[f32]| {
+            let mut r = vec![0xA3, 0x95, kind];
+            r.extend_from_slice(&t);
+            values
+                .iter()
+                .for_each(|v| r.extend_from_slice(&v.to_le_bytes()));
+            r
+        };
+        ac33.extend(row(0x81, &[1.0, -2.0, 90.0]));
+        ac33.extend(row(0x82, &[0.5, 0.0, -0.1]));
+        ac33.extend(row(0x83, &[100.0, -50.0, 25.0, 450.0, -900.0, 10.0, 600.0]));
+        if k == 5 {
+            ac33.extend([0xA3, 0x95, 0x85, 10]);
+        }
+    }
     let full_df = synth::dataflash(&short, true);
     let dataflash_seeds: Vec<(&str, Vec<u8>)> = vec![
         ("synth_heli.bin", full_df.clone()),
+        ("arducopter33.bin", ac33),
         ("synth_heli.px4log", synth::sdlog2(&short, true)),
         ("events.bin", events),
         ("92.bin", small),
