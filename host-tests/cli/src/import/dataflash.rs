@@ -260,6 +260,14 @@ mod tests {
         }
     }
 
+    /// An untimed `MSG` format (type 0x86) and one record of it: how ArduCopter up to 3.1
+    /// names its firmware.
+    fn untimed_msg(buf: &mut Vec<u8>, message: &str) {
+        fmt(buf, 0x86, "MSG", "Z", "Message", 67);
+        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
+        buf.extend_from_slice(&padded::<64>(message));
+    }
+
     /// A log as ArduPilot writes it with `ATTITUDE_FAST`: `RATE` (with or without `AOut`) at
     /// 50 Hz, the collective ramping 0.4 → 0.6, and `CTUN` `ThO` at 10 Hz with a different
     /// value (0.2) so the test can tell which one was taken; `with_aout` is a 4.7 log, with
@@ -372,10 +380,8 @@ mod tests {
             "TimeUS,R,P,Y,ROut,POut,YOut,AOut",
             36,
         );
-        fmt(&mut buf, 0x86, "MSG", "Z", "Message", 67);
         fmt(&mut buf, 0x87, "EV", "B", "Id", 4);
-        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
-        buf.extend_from_slice(&padded::<64>("APM:Copter V3.3.3 (d6053245)"));
+        untimed_msg(&mut buf, "APM:Copter V3.3.3 (d6053245)");
         for k in 0..50u64 {
             let t = 1_000_000 + k * 20_000;
             row(&mut buf, 0x81, t, &[0.0, 0.0, 10.0]);
@@ -420,9 +426,7 @@ mod tests {
         let mut buf = Vec::new();
         fmt(&mut buf, 0x81, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw", 20);
         fmt(&mut buf, 0x82, "EKF1", "Qfff", "TimeUS,VN,VE,VD", 20);
-        fmt(&mut buf, 0x86, "MSG", "Z", "Message", 67);
-        buf.extend_from_slice(&[0xA3, 0x95, 0x86]);
-        buf.extend_from_slice(&padded::<64>("ArduCopter V3.2.1 (36b405fb)"));
+        untimed_msg(&mut buf, "ArduCopter V3.2.1 (36b405fb)");
         for k in 0..10u64 {
             let t = 1_000_000 + k * 20_000;
             row(&mut buf, 0x81, t, &[0.0, 0.0, 10.0]);

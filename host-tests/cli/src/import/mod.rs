@@ -6,9 +6,10 @@
 //! The format is told by the file's first bytes ([`detect`]): ULog magic `ULog\x01\x12\x35`;
 //! DataFlash framing `0xA3 0x95`, an old PX4 `sdlog2` log when its formats say so
 //! ([`sdlog2::is_sdlog2`]); text is read as CSV ([`crate::log`]), except a Git LFS pointer and
-//! the text and JSON exports of other formats, which are named; anything else is refused. Files are streamed, never read whole into memory. A CSV log is
-//! taken as it is at 50 Hz; at another rate (its mean interval off by more than
-//! [`resample::RATE_TOLERANCE`]) it is resampled like the others.
+//! the text and JSON exports of other formats, which are named; anything else is refused.
+//! Files are streamed, never read whole into memory. A CSV log is taken as it is at 50 Hz; at
+//! another rate (its mean interval off by more than [`resample::RATE_TOLERANCE`]) it is
+//! resampled like the others.
 
 pub mod clean;
 pub mod dataflash;
@@ -328,18 +329,15 @@ pub fn detect(head: &[u8]) -> Result<LogFormat, NotALog> {
     // The first lines that are neither blank nor CSV comments tell a CSV log (its header
     // first) from the text exports of other formats: ArduPilot's text log has `FMT, …` lines
     // after a few lines of preamble (the firmware's name, free memory).
-    let mut lines = head
+    let lines: Vec<&[u8]> = head
         .split(|&b| b == b'\n')
         .map(|l| l.trim_ascii())
         .filter(|l| !l.is_empty() && !l.starts_with(b"#"))
-        .take(20);
-    let first = lines.next().unwrap_or_default();
+        .take(20)
+        .collect();
+    let first = lines.first().copied().unwrap_or_default();
     let csv_header = first.windows(6).any(|w| w == b"time_s");
-    if !csv_header
-        && std::iter::once(first)
-            .chain(lines)
-            .any(|l| l.starts_with(b"FMT,"))
-    {
+    if !csv_header && lines.iter().any(|l| l.starts_with(b"FMT,")) {
         Err(NotALog::TextDataFlash)
     } else if first.starts_with(b"{") || first.starts_with(b"[") {
         Err(NotALog::Json)
