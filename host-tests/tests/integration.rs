@@ -24,5 +24,6 @@ mod power_cut;
 mod properties;
 mod readme_numbers;
 mod reference_agreement;
+mod regenerate;
 mod soak;
 mod telemetry;
