@@ -50,7 +50,8 @@ def section(log, run):
     lines.append("")
     # The identified derivatives per regime, as the tool prints them.
     deriv = [l for l in stdout if l.startswith("  all ") or l.startswith("  hover")
-             or l.startswith("  forward") or l.startswith("    X_u")]
+             or l.startswith("  forward") or l.startswith("    off-axis")
+             or l.startswith("    X_u")]
     if deriv:
         lines += ["Body-axis derivatives as `rotorid identify` prints them (control power in "
                   "deg/s² per 10 % stick):", "", "```text", *deriv, "```", ""]

@@ -396,6 +396,37 @@ fn regions_are_fitted_from_their_own_samples_across_segments() {
 }
 
 #[test]
+fn the_off_axis_control_derivatives_a_log_determines_are_shown_against_the_axis_own() {
+    // The synthetic helicopter pitches with lateral cyclic (M_lat = −1.5 against M_lon = 25
+    // rad/s² per unit stick) and rolls with longitudinal (L_lon = 2 against L_lat = 30).
+    let flight = synthetic_flight(7, 120.0, Noise::White);
+    let d = derivatives(&[&flight], RATE_HZ);
+    let all = region(&d, "all");
+    let text = format_derivatives(&d);
+    println!("{text}");
+    assert!(text.lines().count() <= 14);
+    let line = text
+        .lines()
+        .find(|l| l.contains("off-axis cyclic"))
+        .expect("an off-axis line");
+    for (cross, own) in [("M_lat", "M_lon"), ("L_lon", "L_lat")] {
+        assert!(determined(all, cross) && determined(all, own), "{cross}");
+        // In deg/s² per 10 % stick, with its share of the axis' own control power.
+        let per_10pct = value(all, cross).to_degrees() * 0.1;
+        let share = 100.0 * (value(all, cross) / value(all, own)).abs();
+        let shown = format!("{cross} {per_10pct:+.0}±");
+        assert!(line.contains(&shown), "{shown} in {line}");
+        assert!(line.contains(&format!("({share:.0} % of {own})")), "{line}");
+        // The share is the truth's within the fit's error.
+        let truth_share = 100.0 * (truth(cross) / truth(own)).abs();
+        assert!(
+            (share - truth_share).abs() < 3.0,
+            "{cross}: {share} vs {truth_share}"
+        );
+    }
+}
+
+#[test]
 fn xcell_identification_flight_has_the_signs_physics_dictates() {
     // Conventions (host-tests/sim/src/plant/params.rs, StickMap): + lon tilts the disc back,
     // nose up (q > 0); + lat rolls right (p > 0); + ped = more tail thrust, nose right

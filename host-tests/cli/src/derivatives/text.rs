@@ -36,9 +36,45 @@ pub(super) fn rate_text(a: &RateAxis) -> String {
     format!("{} {} {power}, {tau}{flag}", a.axis, a.control)
 }
 
+/// `    off-axis cyclic: M_lat +131±9* (21 % of M_lon), …`: the cross-coupling control
+/// derivatives that the log determines (|value| ≥ 2 SE) where it determines the axis' own
+/// control power too, in the control power's unit (deg/s² per 10 % stick) and as a share of
+/// it. A rotor's flapping makes
+/// lateral cyclic pitch and longitudinal cyclic roll a helicopter; the flight default's pitch
+/// and roll models have no such term (docs/ab-off-axis.md), so a user sees where the log shows
+/// what the models cannot follow. `None` when the log determines neither.
+pub(super) fn off_axis_text(r: &Region) -> Option<String> {
+    let per_10pct = 0.1 * 180.0 / std::f64::consts::PI;
+    let parts: Vec<String> = [("M_lat", "M_lon"), ("L_lon", "L_lat")]
+        .iter()
+        .filter_map(|&(cross, own)| {
+            let d = find(r, cross).filter(|d| d.determined)?;
+            let (v, se) = d.value.zip(d.se)?;
+            // Only beside a determined control power of the axis' own: without it the stick
+            // that drives the axis was hardly moved, and the off-axis one took its place.
+            let o = find(r, own)
+                .filter(|o| o.determined)
+                .and_then(|o| o.value)
+                .filter(|o| *o != 0.0)?;
+            Some(format!(
+                "{cross} {:+.0}±{:.0}* ({:.0} % of {own})",
+                v * per_10pct,
+                se * per_10pct,
+                100.0 * (v / o).abs()
+            ))
+        })
+        .collect();
+    (!parts.is_empty()).then(|| {
+        format!(
+            "    off-axis cyclic: {}: the flight default's pitch and roll models have no off-axis term",
+            parts.join(", ")
+        )
+    })
+}
+
 /// A compact console summary (at most 14 lines): per fitted region the control power per 10 %
-/// of stick (deg/s²) and time constant of each rate axis, the translational derivatives, and
-/// the sticks that were never excited.
+/// of stick (deg/s²) and time constant of each rate axis, the off-axis control derivatives
+/// the log determines, the translational derivatives, and the sticks that were never excited.
 pub fn format_derivatives(d: &Derivatives) -> String {
     let mut lines = vec![
         "Body-axis derivatives (± corrected SE; * = determined, |value| ≥ 2 SE; control power in \
@@ -76,6 +112,7 @@ pub fn format_derivatives(d: &Derivatives) -> String {
                 .collect::<Vec<_>>()
                 .join("; ")
         ));
+        lines.extend(off_axis_text(r));
         let mut trans: Vec<String> = ["X_u", "Y_v", "Z_w", "Z_col"]
             .iter()
             .map(|s| short(find(r, s), s))
