@@ -39,11 +39,11 @@ pub(super) fn rate_text(a: &RateAxis) -> String {
 /// `    off-axis cyclic: M_lat +131±9* (21 % of M_lon), …`: the cross-coupling control
 /// derivatives that the log determines (|value| ≥ 2 SE) where it determines the axis' own
 /// control power too, in the control power's unit (deg/s² per 10 % stick) and as a share of
-/// it. A rotor's flapping makes
-/// lateral cyclic pitch and longitudinal cyclic roll a helicopter; the flight default's pitch
-/// and roll models have no such term (docs/ab-off-axis.md), so a user sees where the log shows
-/// what the models cannot follow. `None` when the log determines neither.
-pub(super) fn off_axis_text(r: &Region) -> Option<String> {
+/// it. A rotor's flapping makes lateral cyclic pitch and longitudinal cyclic roll a
+/// helicopter; the flight default's pitch and roll models have no such term
+/// (docs/ab-off-axis.md), so a user sees where the log shows what the models cannot follow.
+/// `None` when the log determines neither.
+fn off_axis_text(r: &Region) -> Option<String> {
     let per_10pct = 0.1 * 180.0 / std::f64::consts::PI;
     let parts: Vec<String> = [("M_lat", "M_lon"), ("L_lon", "L_lat")]
         .iter()
