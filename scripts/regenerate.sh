@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 # name | minutes when last measured | command
 steps=(
   "core-golden|1|ROTORID_BLESS=1 cargo test -q -p rotorid --features std --test integration golden::"
-  "c-interface|3|ROTORID_BLESS=1 cargo test -q --manifest-path core/ffi/Cargo.toml --release"
+  "c-interface|3|ROTORID_BLESS=1 cargo test -q --manifest-path core/ffi/Cargo.toml --release && ROTORID_BLESS=1 cargo test -q --manifest-path core/ffi/Cargo.toml --release --test header"
   "python-golden|1|scripts/python_golden.sh"
   "rate-orders|1|scripts/rate-orders.sh"
   "closed-loop|2|scripts/closed-loop.sh"

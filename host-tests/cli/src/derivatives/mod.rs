@@ -178,6 +178,12 @@ pub struct AxisFit {
     pub lags: Option<usize>,
 }
 
+/// An angular acceleration (or a derivative of one) in rad/s² as deg/s²: the unit the
+/// control powers are reported in.
+pub(super) fn deg_s2(rad_s2: f64) -> f64 {
+    rad_s2 * (180.0 / std::f64::consts::PI)
+}
+
 /// Control power and time constant of one rate axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RateAxis {

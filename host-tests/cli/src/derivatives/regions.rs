@@ -8,9 +8,9 @@ use super::equations::{Equation, Term, EQUATIONS, RATE_AXES, STICK_NAMES};
 use super::fit::{fit, stretches};
 use super::samples::{points_of_run, usable_runs, Differentiator, Point};
 use super::{
-    AxisFit, Derivative, Derivatives, RateAxis, Region, StickExcitation, DETERMINED_SE_MULTIPLE,
-    FORWARD_MIN_BODY_SPEED_MPS, HOVER_MAX_GROUND_SPEED_MPS, MAX_LAG_S, NEVER_EXCITED_FRACTION,
-    SAMPLES_PER_PARAMETER,
+    deg_s2, AxisFit, Derivative, Derivatives, RateAxis, Region, StickExcitation,
+    DETERMINED_SE_MULTIPLE, FORWARD_MIN_BODY_SPEED_MPS, HOVER_MAX_GROUND_SPEED_MPS, MAX_LAG_S,
+    NEVER_EXCITED_FRACTION, SAMPLES_PER_PARAMETER,
 };
 
 pub(super) fn excitation(points: &[&Point]) -> Vec<StickExcitation> {
@@ -184,8 +184,7 @@ pub(super) fn rate_axis(
     };
     let c = find(control);
     let d = find(damping);
-    let deg = 180.0 / std::f64::consts::PI;
-    let power = c.and_then(|c| c.value).map(|v| v * deg);
+    let power = c.and_then(|c| c.value).map(deg_s2);
     let (tau, tau_se, status) = match d.and_then(|d| d.value.zip(d.se).map(|v| (v, d.determined))) {
         Some(((v, se), true)) if v < 0.0 => (Some(-1.0 / v), Some(se / (v * v)), "determined"),
         Some((_, true)) => (None, None, "unstable"),
@@ -220,7 +219,7 @@ pub(super) fn rate_axis(
         control: control.to_string(),
         control_power_deg_s2: power,
         control_power_deg_s2_per_10pct: power.map(|p| 0.1 * p),
-        control_power_se_deg_s2: c.and_then(|c| c.se).map(|s| s * deg),
+        control_power_se_deg_s2: c.and_then(|c| c.se).map(deg_s2),
         control_determined: c.is_some_and(|c| c.determined),
         damping: damping.to_string(),
         time_constant_s: tau,

@@ -1,6 +1,6 @@
 //! The derivatives as console text (the verdict's block).
 
-use super::{Derivative, Derivatives, RateAxis, Region};
+use super::{deg_s2, Derivative, Derivatives, RateAxis, Region};
 
 pub(super) fn find<'a>(r: &'a Region, sym: &str) -> Option<&'a Derivative> {
     r.axes
@@ -44,7 +44,6 @@ pub(super) fn rate_text(a: &RateAxis) -> String {
 /// (docs/ab-off-axis.md), so a user sees where the log shows what the models cannot follow.
 /// `None` when the log determines neither.
 fn off_axis_text(r: &Region) -> Option<String> {
-    let per_10pct = 0.1 * 180.0 / std::f64::consts::PI;
     let parts: Vec<String> = [("M_lat", "M_lon"), ("L_lon", "L_lat")]
         .iter()
         .filter_map(|&(cross, own)| {
@@ -58,8 +57,8 @@ fn off_axis_text(r: &Region) -> Option<String> {
                 .filter(|o| *o != 0.0)?;
             Some(format!(
                 "{cross} {:+.0}±{:.0}* ({:.0} % of {own})",
-                v * per_10pct,
-                se * per_10pct,
+                0.1 * deg_s2(v),
+                0.1 * deg_s2(se),
                 100.0 * (v / o).abs()
             ))
         })
