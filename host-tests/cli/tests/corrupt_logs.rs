@@ -481,6 +481,22 @@ fn generated_sdlog2_logs_round_trip_and_name_what_is_missing() {
             && e.contains("no helicopter controls"),
         "{e}"
     );
+    // Without its TIME messages the log is still told as sdlog2 (its ATT has no time field,
+    // as ArduPilot's always has), and the error names the missing time, not the ATT rows
+    // that are there.
+    let untimed = synth::sdlog2_with(&samples, true, false);
+    assert_eq!(import::detect(&untimed), Ok(LogFormat::Sdlog2));
+    let e = import_bytes(&dir, "untimed.bin", &untimed)
+        .expect_err("no TIME")
+        .to_string();
+    assert!(
+        e.contains("untimed.bin")
+            && e.contains("PX4 sdlog2 log")
+            && e.contains("no time stamps")
+            && e.contains("`TIME` `StartTime`")
+            && !e.contains("no attitude"),
+        "{e}"
+    );
     // The same messages with ArduPilot time stamps are DataFlash, not sdlog2.
     assert_eq!(
         import::detect(&synth::dataflash(&samples, true)),

@@ -27,20 +27,23 @@ const FORMAT: &str = "PX4 sdlog2";
 const VELOCITY_VALID: u32 = 0b1100;
 
 /// Whether the formats (from the first `FMT` records of a DataFlash-framed file) are an
-/// sdlog2 log's: a `TIME` message with `StartTime`, and no message with ArduPilot's `TimeUS`
-/// or `TimeMS` first field.
+/// sdlog2 log's: a `TIME` message with `StartTime` or PX4's `ATT` (with `RollRate`), and no
+/// message with ArduPilot's `TimeUS` or `TimeMS` first field. So a log whose `TIME` messages
+/// are lost is still told as sdlog2, and [`channels`] says that its rows carry no time
+/// rather than DataFlash's reader saying that `ATT` is missing.
 pub fn is_sdlog2<'a>(
     formats: impl Iterator<Item = &'a super::dataflash::reader::MessageFormat>,
 ) -> bool {
-    let (mut time, mut ardupilot) = (false, false);
+    let (mut sdlog2, mut ardupilot) = (false, false);
     for f in formats {
-        time |= f.name == "TIME" && f.has("StartTime");
+        sdlog2 |=
+            (f.name == "TIME" && f.has("StartTime")) || (f.name == "ATT" && f.has("RollRate"));
         ardupilot |= f
             .labels()
             .next()
             .is_some_and(|l| l == "TimeUS" || l == "TimeMS");
     }
-    time && !ardupilot
+    sdlog2 && !ardupilot
 }
 
 /// Reads the channels of the sdlog2 log `input` (streamed); `file` names it in errors.
@@ -52,10 +55,14 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     let mut now: Option<f64> = None;
+    let mut untimed = 0usize;
     while let Some(e) = reader.next_record().map_err(err)? {
         if e.format.name == "TIME" {
             now = e.get("StartTime").map(|us| us / 1e6).or(now);
             continue;
+        }
+        if now.is_none() {
+            untimed += 1;
         }
         let Some(t) = now else {
             continue;
@@ -130,6 +137,13 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         remark: remark.clone(),
         context: Box::default(),
     };
+    if now.is_none() && untimed > 0 {
+        // Rows, and not one `TIME` among them: nothing says when any was logged.
+        return Err(missing(
+            "time stamps",
+            "`TIME` `StartTime` (sdlog2 writes one before each batch of messages; its other messages carry no time of their own)",
+        ));
+    }
     if ch.attitude.t.len() < 2 {
         return Err(missing("attitude", "`ATT` `Roll Pitch Yaw` after a `TIME`"));
     }

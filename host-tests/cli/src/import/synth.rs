@@ -174,6 +174,12 @@ pub fn dataflash_with_demand(
 /// (`StartTime`, µs), `ATT` (rad, rad/s), `LPOS` (`VX VY VZ`), `STAT` (`ArmS` = 2, armed)
 /// and, with `controls`, `ATTC` (`Roll Pitch Yaw Thrust` = lat, lon, ped, col).
 pub fn sdlog2(samples: &[SensorSample], controls: bool) -> Vec<u8> {
+    sdlog2_with(samples, controls, true)
+}
+
+/// [`sdlog2`] with its `TIME` messages left out (`time` false): DataFlash framing whose rows
+/// carry no time at all, neither sdlog2's nor ArduPilot's.
+pub fn sdlog2_with(samples: &[SensorSample], controls: bool, time: bool) -> Vec<u8> {
     // (type, name, format, labels, payload length), as the T-REX 550 logs define them
     // (trimmed to the fields read).
     let mut formats = vec![
@@ -198,7 +204,7 @@ pub fn sdlog2(samples: &[SensorSample], controls: bool) -> Vec<u8> {
         formats.push((9, "ATTC", "ffff", "Roll,Pitch,Yaw,Thrust", 16));
     }
     let mut buf = Vec::new();
-    for (kind, name, format, labels, len) in &formats {
+    for (kind, name, format, labels, len) in formats.iter().skip(usize::from(!time)) {
         buf.extend_from_slice(&[0xA3, 0x95, 0x80, *kind, (3 + len) as u8]);
         buf.extend_from_slice(&padded::<4>(name));
         buf.extend_from_slice(&padded::<16>(format));
@@ -213,7 +219,7 @@ pub fn sdlog2(samples: &[SensorSample], controls: bool) -> Vec<u8> {
             (10, [&[1u8, 1, 2, 0][..], &0.5f32.to_le_bytes()].concat()),
             (9, floats(&[u.lat, u.lon, u.ped, u.col])),
         ];
-        for (kind, row) in rows.iter().take(formats.len()) {
+        for (kind, row) in rows.iter().take(formats.len()).skip(usize::from(!time)) {
             buf.extend_from_slice(&[0xA3, 0x95, *kind]);
             buf.extend_from_slice(row);
         }
