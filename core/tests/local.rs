@@ -345,6 +345,64 @@ fn an_unscheduled_model_among_scheduled_ones_learns_as_it_would_alone() {
     matches_models_learning_afresh(id);
 }
 
+/// `flight_scheduled`: a model scheduled on the side or the vertical speed has its sets on
+/// that premise variable and learns as it would alone (the models that keep the speed still
+/// share their strengths); the speed four times is `flight_per_model`, bit for bit; the
+/// translational model has no side speed to be scheduled on.
+#[test]
+fn models_scheduled_on_the_side_or_the_vertical_speed() {
+    use rotorid::hover::Scheduling::{SideSpeed, Speed, VerticalSpeed};
+    let config = HoverConfig::default();
+    // The samples' vertical speed swings ±0.3 m/s; their side speed is 0 (they fly along
+    // the heading).
+    let small = || rotorid::hover::table3::three_sets((-0.2, 0.1), (0.0, 0.1), (0.2, 0.1));
+    let sets = [small(), flight_sets(), small(), small()];
+    let on = [VerticalSpeed, Speed, SideSpeed, VerticalSpeed];
+    let id = FlightIdentifier::<f32>::flight_scheduled(config, sets.clone(), on).unwrap();
+    let variables = |m: &dyn Fn(usize) -> bool| (0..3).map(m).collect::<Vec<_>>();
+    let velocity = id.velocity_model().premise_sets().1;
+    assert_eq!(
+        variables(&|i| !velocity[i].is_empty()),
+        [false, true, false]
+    );
+    let yaw = id.yaw_model().premise_sets().1;
+    assert_eq!(variables(&|i| !yaw[i].is_empty()), [false, true, false]);
+    let roll = id.roll_model().premise_sets().1;
+    assert!(roll[2] == small() && roll[0].is_empty() && roll[1].is_empty());
+    let mut learnt = id.clone();
+    for k in 0..1500 {
+        learnt.step(&sample(k)).unwrap();
+    }
+    // On the vertical speed every rule of the roll model learns, and it learns otherwise
+    // than on the forward speed.
+    let mut default = FlightIdentifier::<f32>::flight(config, flight_sets()).unwrap();
+    for k in 0..1500 {
+        default.step(&sample(k)).unwrap();
+    }
+    let (roll, default_roll) = (learnt.export().roll, default.export().roll);
+    assert!(roll.iter().all(|r| r.updates > 100));
+    assert!(roll != default_roll);
+    matches_models_learning_afresh(id);
+
+    let flight_sets4 = || core::array::from_fn(|_| flight_sets());
+    let mut a =
+        FlightIdentifier::<f32>::flight_scheduled(config, flight_sets4(), [Speed; 4]).unwrap();
+    let mut b = FlightIdentifier::<f32>::flight_per_model(config, flight_sets4()).unwrap();
+    for k in 0..500 {
+        let s = sample(k);
+        assert_eq!(
+            bits(&a.step(&s).unwrap().prediction),
+            bits(&b.step(&s).unwrap().prediction)
+        );
+    }
+    assert!(a.export() == b.export());
+    let side = [SideSpeed, Speed, Speed, Speed];
+    assert_eq!(
+        FlightIdentifier::<f32>::flight_scheduled(config, sets, side).unwrap_err(),
+        Error::Config(rotorid::error::ConfigError::Dimensions)
+    );
+}
+
 #[test]
 fn shared_strengths_give_the_bits_of_a_recomputation_where_one_model_differs() {
     // The yaw model on forward and side speed (9 rules) cannot take the pitch model's ξ and

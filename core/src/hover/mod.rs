@@ -42,5 +42,5 @@ pub use variants::{
     flight_sets, unscheduled_sets, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier,
     ExtendedPlainIdentifier, FlightIdentifier, FlightPlainIdentifier, GlobalRateModel,
     GlobalVelocityModel, LocalRateModel, LocalVelocityModel, PaperFuzzyIdentifier,
-    PaperLocalIdentifier, PaperPlainIdentifier,
+    PaperLocalIdentifier, PaperPlainIdentifier, Scheduling,
 };

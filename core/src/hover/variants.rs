@@ -2,7 +2,7 @@
 //! learning, and the flight default, as type aliases of [`HoverIdentifier`] with their
 //! constructors.
 
-use crate::error::Error;
+use crate::error::{ConfigError, Error};
 use crate::hover::config::HoverConfig;
 use crate::hover::identifier::{Chain, HoverIdentifier, Settings};
 use crate::hover::models::{
@@ -130,6 +130,47 @@ pub fn flight_sets<T: Real>() -> PremiseSets<T> {
 /// training data).
 pub fn unscheduled_sets<T: Real>() -> PremiseSets<T> {
     table3::three_sets((1e5, 1.0), (1e6, 1.0), (2e6, 1.0))
+}
+
+/// The speed a flight model's three rules are scheduled on (m/s), for
+/// [`FlightIdentifier::flight_scheduled`]: which premise variable of the model's premise
+/// carries its three sets.
+///
+/// The flight default schedules every model on a speed of forward flight; the rotors'
+/// inflow, and so the forces and moments per control, also change with sideways flight (the
+/// tail rotor's thrust and the fin's side force) and with climb and descent (a rotor
+/// descending into its own wake loses thrust). Which one changes a helicopter's dynamics
+/// most is for its data to say (`rotorid identify --premise-candidates`).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Scheduling {
+    /// The flight default's: the forward speed for a rate model, the horizontal speed
+    /// `|v_h|` for the translational model ([`Premise::HeadingVelocity`]'s and
+    /// [`Premise::HorizontalSpeed`]'s first variable).
+    #[default]
+    Speed,
+    /// The rightward speed in the heading frame ([`Premise::HeadingVelocity`]'s second
+    /// variable). Rate models only: the translational model's premise has no side speed
+    /// ([`ConfigError::Dimensions`]).
+    SideSpeed,
+    /// The vertical speed, up ([`Premise::HeadingVelocity`]'s third variable,
+    /// [`Premise::HorizontalSpeed`]'s second).
+    VerticalSpeed,
+}
+
+impl Scheduling {
+    /// Index of the premise variable this schedules on, in the translational model's premise
+    /// (`rate` false) or a rate model's; `None` where the premise has no such variable.
+    pub const fn variable(self, rate: bool) -> Option<usize> {
+        match (self, rate) {
+            (Self::Speed, _) => Some(0),
+            (Self::SideSpeed, true) => Some(1),
+            (Self::SideSpeed, false) => None,
+            (Self::VerticalSpeed, true) => Some(2),
+            (Self::VerticalSpeed, false) => Some(1),
+        }
+    }
 }
 
 /// A translational model learnt globally (the paper's RLS over `N = R·D` parameters, `NP`
@@ -338,11 +379,49 @@ impl<T: Real> FlightIdentifier<T> {
         config: HoverConfig<T>,
         sets: [PremiseSets<T>; 4],
     ) -> Result<Self, Error> {
+        // Not `flight_scheduled` with the speed four times: the same identifier, but a
+        // firmware that never schedules elsewhere links none of its choice.
         let [v, q, r, p] = sets;
         let rules = |s| RuleBase::new([s, PremiseSets::new(), PremiseSets::new()]);
         build(
             config,
             (rules(v)?, rules(q)?, rules(r)?, rules(p)?),
+            Design::FLIGHT,
+        )
+    }
+
+    /// [`flight_per_model`](Self::flight_per_model) with each model's three sets on the speed
+    /// `on` names for it, in the same order (velocity, q̂, r̂, p̂; m/s). With
+    /// [`Scheduling::Speed`] four times it is `flight_per_model`, bit for bit.
+    ///
+    /// # Errors
+    ///
+    /// Those of [`flight_per_model`](Self::flight_per_model), and
+    /// [`ConfigError::Dimensions`] for the translational model on
+    /// [`Scheduling::SideSpeed`] (its premise has none).
+    pub fn flight_scheduled(
+        config: HoverConfig<T>,
+        sets: [PremiseSets<T>; 4],
+        on: [Scheduling; 4],
+    ) -> Result<Self, Error> {
+        let [v, q, r, p] = sets;
+        let [sv, sq, sr, sp] = on;
+        let rules = |s: PremiseSets<T>, on: Scheduling, rate: bool| {
+            let mut variables = [PremiseSets::new(), PremiseSets::new(), PremiseSets::new()];
+            match on.variable(rate).and_then(|i| variables.get_mut(i)) {
+                Some(slot) => *slot = s,
+                None => return Err(ConfigError::Dimensions.into()),
+            }
+            RuleBase::new(variables)
+        };
+        build(
+            config,
+            (
+                rules(v, sv, false)?,
+                rules(q, sq, true)?,
+                rules(r, sr, true)?,
+                rules(p, sp, true)?,
+            ),
             Design::FLIGHT,
         )
     }

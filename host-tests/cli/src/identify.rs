@@ -74,6 +74,9 @@ pub struct IdentifyArgs {
     /// How much later than logged the controls act (s); `None`: chosen on the training data
     /// when every log is an autopilot's ([`experiments::select_delay`]), 0 for CSV logs.
     pub control_delay_s: Option<f64>,
+    /// Whether `flight selected` also chooses the speed each model's rules are on
+    /// ([`experiments::variants_with`]).
+    pub premise_candidates: bool,
 }
 
 impl IdentifyArgs {
@@ -95,6 +98,7 @@ impl IdentifyArgs {
             free_run_velocity: experiments::FreeRunVelocity::Model,
             observer_gain: ObserverGain::Auto,
             control_delay_s: None,
+            premise_candidates: false,
         }
     }
 }
@@ -353,7 +357,11 @@ pub fn identify(
     args: &IdentifyArgs,
     progress: &mut dyn Progress,
 ) -> Result<Outcome, IdentifyError> {
-    identify_with(args, &experiments::variants(), progress)
+    identify_with(
+        args,
+        &experiments::variants_with(args.premise_candidates),
+        progress,
+    )
 }
 
 /// [`identify`] with the variants given, in their order (a study's catalogue, such as

@@ -318,7 +318,12 @@ pub fn verdict(
                 full_compensation.join(", ")
             )
         };
-        format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed){full}")
+        if terms_off.iter().any(|t| t.contains(": rules on the ")) {
+            // `--premise-candidates` moved some model's rules to another speed.
+            format!("{why}; the flight default's rules and terms that the training data did not support are switched off, or its rules scheduled on another speed where the data predict better so ({off}; `rules`: that model has one rule, not scheduled on the speed; `rules on the …`: its three rules are on that speed){full}")
+        } else {
+            format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed){full}")
+        }
     } else {
         why
     };

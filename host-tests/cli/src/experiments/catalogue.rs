@@ -14,11 +14,31 @@ use rotorid::{
 };
 
 use super::mask::SelectedFlight;
-use super::selection::select_terms;
+use super::selection::{select_terms, select_terms_and_schedules};
 use super::variants::{at, Variant};
 
 /// The identifier variants `rotorid identify` compares. The first two are Table 4's columns.
 pub fn variants() -> Vec<Variant> {
+    variants_with(false)
+}
+
+/// [`variants`], where with `premise_candidates` `flight selected` also chooses per model the
+/// speed its rules are on ([`select_terms_and_schedules`]; `rotorid identify
+/// --premise-candidates`).
+pub fn variants_with(premise_candidates: bool) -> Vec<Variant> {
+    let mut all = catalogue();
+    if premise_candidates {
+        for v in all.iter_mut().filter(|v| v.name == "flight selected") {
+            v.build = |training, period| {
+                let selection = select_terms_and_schedules(training, period)?;
+                Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
+            };
+        }
+    }
+    all
+}
+
+fn catalogue() -> Vec<Variant> {
     vec![
         Variant {
             name: "paper fuzzy",

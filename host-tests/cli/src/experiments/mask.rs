@@ -13,8 +13,8 @@
 //! [`HoverIdentifier::compensate_each`]: rotorid::HoverIdentifier::compensate_each
 
 use rotorid::hover::{
-    flight_sets, unscheduled_sets, GyroCompensation, HoverConfig, HoverSample, HoverState,
-    Observer, RateStructure, StepOutput, VelocityStructure,
+    flight_sets, table3, unscheduled_sets, GyroCompensation, HoverConfig, HoverSample, HoverState,
+    Observer, RateStructure, Scheduling, StepOutput, VelocityStructure,
 };
 use rotorid::rls::{Compensation, RlsState};
 use rotorid::snapshot::WriteError;
@@ -33,8 +33,9 @@ pub const VELOCITY_TERMS: [&str; 8] = ["α1", "α2", "d_f", "d_r", "d_u", "σ0",
 pub const RATE_TERMS: [&str; 7] = ["𝕀", "γ", "δ", "β", "c", "κ", "η"];
 
 /// Which terms of each model are switched off: bit `i` of `off[m]` is term `i` of model
-/// `MODELS[m]`; and which models have one rule instead of three.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// `MODELS[m]`; which models have one rule instead of three, and which are scheduled on
+/// another speed than the flight default's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TermMask {
     /// Per model, the bits of the terms that are off.
     pub off: [u8; 4],
@@ -48,6 +49,56 @@ pub struct TermMask {
     /// false).
     #[serde(default)]
     pub full_compensation: [bool; 4],
+    /// Per model, the speed its three rules are scheduled on when it is not the flight
+    /// default's (`None`; `--premise-candidates`).
+    #[serde(default)]
+    pub schedule: [Option<Schedule>; 4],
+}
+
+/// A model's three rules on another speed than the flight default's
+/// ([`FlightIdentifier::flight_scheduled`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Schedule {
+    /// The speed.
+    pub on: ScheduledOn,
+    /// `(centre, spread)` (m/s) of its left shoulder, Gaussian and right shoulder.
+    pub sets: [(f32, f32); 3],
+}
+
+/// The speeds [`Schedule`] can name (the core's [`Scheduling`] other than the default).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ScheduledOn {
+    /// The rightward speed in the heading frame (rate models only).
+    SideSpeed,
+    /// The vertical speed, up.
+    VerticalSpeed,
+}
+
+impl ScheduledOn {
+    /// The core's choice.
+    pub fn scheduling(self) -> Scheduling {
+        match self {
+            Self::SideSpeed => Scheduling::SideSpeed,
+            Self::VerticalSpeed => Scheduling::VerticalSpeed,
+        }
+    }
+
+    /// As [`TermMask::describe`] names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::SideSpeed => "side speed",
+            Self::VerticalSpeed => "vertical speed",
+        }
+    }
+
+    /// The one that schedules on premise variable `variable` of model `model`'s premise
+    /// (`[|v_h| up 0]` for the velocity, `[forward right up]` for the rates).
+    fn of_variable(model: usize, variable: usize) -> Option<Self> {
+        [Self::SideSpeed, Self::VerticalSpeed]
+            .into_iter()
+            .find(|on| on.scheduling().variable(model > 0) == Some(variable))
+    }
 }
 
 impl TermMask {
@@ -70,6 +121,14 @@ impl TermMask {
     pub(super) fn with_one_rule(mut self, model: usize) -> Self {
         if let Some(one) = self.one_rule.get_mut(model) {
             *one = true;
+        }
+        self
+    }
+
+    /// This mask with model `model`'s rules on `schedule`'s speed.
+    pub(super) fn scheduled(mut self, model: usize, schedule: Schedule) -> Self {
+        if let Some(s) = self.schedule.get_mut(model) {
+            *s = Some(schedule);
         }
         self
     }
@@ -105,6 +164,8 @@ impl TermMask {
         for (m, model) in MODELS.iter().enumerate() {
             if self.has_one_rule(m) {
                 out.push(format!("{model}: rules"));
+            } else if let Some(Some(s)) = self.schedule.get(m) {
+                out.push(format!("{model}: rules on the {}", s.on.name()));
             }
             let names: &[&str] = if m == 0 { &VELOCITY_TERMS } else { &RATE_TERMS };
             for (t, name) in names.iter().enumerate() {
@@ -128,6 +189,9 @@ impl TermMask {
             if p.premise.as_ref().and_then(|q| q.variables.first()) == Some(&unscheduled) {
                 mask = mask.with_one_rule(m);
             }
+            if let Some(schedule) = p.premise.as_ref().and_then(|q| Schedule::of(m, q)) {
+                mask = mask.scheduled(m, schedule);
+            }
             let d = if m == 0 {
                 VELOCITY_TERMS.len()
             } else {
@@ -149,6 +213,29 @@ impl TermMask {
             }
         }
         mask
+    }
+}
+
+impl Schedule {
+    /// The schedule a model's written premise shows: its three sets on another variable than
+    /// the first (`None` for the flight default's, or sets that are not three shoulders and a
+    /// Gaussian).
+    fn of(model: usize, premise: &super::variants::PremiseParameters) -> Option<Self> {
+        let (variable, sets) = premise
+            .variables
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.is_empty())?;
+        let on = ScheduledOn::of_variable(model, variable)?;
+        let shapes = sets.iter().map(|s| s.shape.as_str()).collect::<Vec<_>>();
+        if shapes != ["left", "gaussian", "right"] {
+            return None;
+        }
+        let set = |i: usize| sets.get(i).map_or((0.0, 1.0), |s| (s.centre, s.spread));
+        Some(Self {
+            on,
+            sets: [set(0), set(1), set(2)],
+        })
     }
 }
 
@@ -176,15 +263,25 @@ pub fn masked_flight(
     mask: TermMask,
     period_us: u32,
 ) -> Result<FlightIdentifier<f32>, rotorid::Error> {
-    let sets = core::array::from_fn(|m| {
-        if mask.has_one_rule(m) {
-            unscheduled_sets()
-        } else {
-            flight_sets()
+    let schedule = |m: usize| mask.schedule[m].filter(|_| !mask.has_one_rule(m));
+    let sets = core::array::from_fn(|m| match schedule(m) {
+        _ if mask.has_one_rule(m) => unscheduled_sets(),
+        Some(Schedule {
+            sets: [l, c, r], ..
+        }) => {
+            let wide = |(c, s): (f32, f32)| (f64::from(c), f64::from(s));
+            table3::three_sets(wide(l), wide(c), wide(r))
         }
+        None => flight_sets(),
     });
-    let mut flight =
-        FlightIdentifier::<f32>::flight_per_model(at(HoverConfig::default(), period_us), sets)?;
+    let config = at(HoverConfig::default(), period_us);
+    let mut flight = if mask.schedule.iter().all(Option::is_none) {
+        FlightIdentifier::<f32>::flight_per_model(config, sets)?
+    } else {
+        let on =
+            core::array::from_fn(|m| schedule(m).map_or(Scheduling::Speed, |s| s.on.scheduling()));
+        FlightIdentifier::<f32>::flight_scheduled(config, sets, on)?
+    };
     if mask.off == [0; 4] {
         return Ok(flight);
     }
@@ -322,6 +419,56 @@ mod tests {
         assert_eq!(
             TermMask::of_parameters(&Identifier::parameters(&full)),
             TermMask::default()
+        );
+    }
+
+    /// A model scheduled on another speed: the exported parameters carry its sets on that
+    /// premise variable, the mask reads back from them bit for bit, and it is named; the
+    /// identifier is the core's `flight_scheduled`.
+    #[test]
+    fn schedules_are_carried_by_the_parameters_and_named() {
+        use rotorid::hover::StateModel;
+        let side = Schedule {
+            on: ScheduledOn::SideSpeed,
+            sets: [(-1.5, 0.75), (0.0, 0.75), (1.25, 0.625)],
+        };
+        let vertical = Schedule {
+            on: ScheduledOn::VerticalSpeed,
+            sets: [(-0.5, 0.25), (0.0, 0.25), (0.5, 0.25)],
+        };
+        let mask = TermMask::default()
+            .scheduled(0, vertical)
+            .scheduled(2, side)
+            .without(2, 0)
+            .scheduled(3, vertical);
+        assert_eq!(
+            mask.describe(),
+            [
+                "velocity: rules on the vertical speed",
+                "r: rules on the side speed",
+                "r: 𝕀|v|",
+                "p: rules on the vertical speed"
+            ]
+        );
+        let id = masked_flight(mask, 20_000).unwrap();
+        assert_eq!(TermMask::of_parameters(&Identifier::parameters(&id)), mask);
+        // The yaw model's sets are on the heading frame's second variable, the velocity's on
+        // its second (up), the roll model's on its third (up).
+        let (_, yaw) = id.yaw_model().premise_sets();
+        assert!(yaw[0].is_empty() && yaw[1].len() == 3 && yaw[2].is_empty());
+        let (_, velocity) = id.velocity_model().premise_sets();
+        assert!(velocity[0].is_empty() && velocity[1].len() == 3);
+        let (_, roll) = id.roll_model().premise_sets();
+        assert!(roll[2].len() == 3);
+        // The translational model has no side speed: refused, not scheduled elsewhere.
+        let sideways = TermMask::default().scheduled(0, side);
+        assert!(masked_flight(sideways, 20_000).is_err());
+        // A schedule of a model with one rule is moot: the model is its one-rule form.
+        let moot = TermMask::default().with_one_rule(1).scheduled(1, side);
+        let one = TermMask::default().with_one_rule(1);
+        assert!(
+            masked_flight(moot, 20_000).unwrap().export()
+                == masked_flight(one, 20_000).unwrap().export()
         );
     }
 

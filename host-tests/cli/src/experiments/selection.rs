@@ -51,7 +51,7 @@ use rotorid::DynIdentifier;
 use serde::{Deserialize, Serialize};
 
 use super::evaluation::{free_run, gyro_noise_of, train, FreeRunVelocity};
-use super::mask::{SelectedFlight, TermMask};
+use super::mask::{Schedule, ScheduledOn, SelectedFlight, TermMask};
 use super::variants::Identifier;
 
 /// Length of the blocks the training data are cut into (s), when the data hold `2 FOLDS` of
@@ -288,6 +288,33 @@ pub fn select_terms_with(
     period_us: u32,
     evidence: Option<f64>,
 ) -> Result<TermSelection, rotorid::Error> {
+    select(training, period_us, evidence, false)
+}
+
+/// [`select_terms`] with the premise candidates as well (`rotorid identify
+/// --premise-candidates`): after its terms, a model that keeps three rules and beats hold on
+/// the check blocks may have them on the side speed (rate models) or the vertical speed
+/// instead of the flight default's speed, with three sets at the training data's quantiles
+/// ([`rotorid::premise::quantile_sets`]); such a change must lower the model's free run on
+/// the check blocks by more than two standard errors of the paired block differences (it
+/// moves the operating regions, which the check blocks revisit but a later flight need not:
+/// without these guards the yaw model's envelope free run got worse, docs/ab-premises.md).
+pub fn select_terms_and_schedules(
+    training: &[Vec<HoverSample<f32>>],
+    period_us: u32,
+) -> Result<TermSelection, rotorid::Error> {
+    select(training, period_us, None, true)
+}
+
+/// Standard errors a premise candidate must beat the current model's check-block free run by.
+const SCHEDULE_EVIDENCE: f64 = 2.0;
+
+fn select(
+    training: &[Vec<HoverSample<f32>>],
+    period_us: u32,
+    evidence: Option<f64>,
+    schedules: bool,
+) -> Result<TermSelection, rotorid::Error> {
     let rate_hz = 1e6 / f64::from(period_us.max(1));
     let window = window_samples(rate_hz);
     let samples: usize = training.iter().map(Vec::len).sum();
@@ -345,6 +372,30 @@ pub fn select_terms_with(
                 _ => break,
             }
         }
+        // Then the speed its rules are on (only with `schedules`; see
+        // `select_terms_and_schedules`), with the terms chosen.
+        if schedules && !mask.has_one_rule(m) && current.key(m).1 < 1.0 {
+            let candidates: &[ScheduledOn] = if m == 0 {
+                &[ScheduledOn::VerticalSpeed]
+            } else {
+                &[ScheduledOn::SideSpeed, ScheduledOn::VerticalSpeed]
+            };
+            for &on in candidates {
+                let Some(sets) = quantile_schedule(training, m, on) else {
+                    continue;
+                };
+                let candidate = mask.scheduled(m, Schedule { on, sets });
+                let score = score(candidate, &folds, period_us, window, gyro_noise)?;
+                selection.candidates += 1;
+                if score.key(m).1.is_finite()
+                    && score.key(m) < current.key(m)
+                    && convinces(&score, &current, m, SCHEDULE_EVIDENCE)
+                {
+                    mask = candidate;
+                    current = score;
+                }
+            }
+        }
         // Then a rate's compensation, after its terms: it changes what the second-order
         // term's estimate means. Full replaces the damping term's only if it predicts
         // better (ties go to the default).
@@ -361,6 +412,42 @@ pub fn select_terms_with(
     selection.mask = mask;
     selection.selected = current.ratios;
     Ok(selection)
+}
+
+/// Three sets for model `m`'s rules on `on`'s speed at the training data's quantiles
+/// ([`rotorid::premise::quantile_sets`], the noise floor the median over the logs of
+/// [`rotorid::premise::noise_std`]); `None` when the data give none.
+fn quantile_schedule(
+    training: &[Vec<HoverSample<f32>>],
+    m: usize,
+    on: ScheduledOn,
+) -> Option<[(f32, f32); 3]> {
+    use rotorid::hover::{BodyFrame, Premise};
+    let premise = if m == 0 {
+        Premise::HorizontalSpeed
+    } else {
+        Premise::HeadingVelocity
+    };
+    let variable = on.scheduling().variable(m > 0)?;
+    let mut values = Vec::new();
+    let mut noise = Vec::new();
+    for log in training {
+        let x: Vec<f32> = log
+            .iter()
+            .filter_map(|s| {
+                let frame = BodyFrame::of(&s.attitude);
+                premise.of(s, &frame).get(variable).copied()
+            })
+            .collect();
+        let mut scratch = vec![0.0f32; x.len()];
+        noise.extend(rotorid::premise::noise_std(&x, &mut scratch));
+        values.extend(x);
+    }
+    noise.sort_by(f32::total_cmp);
+    let floor = *noise.get(noise.len() / 2)?;
+    let sets = rotorid::premise::quantile_sets(&mut values, 3, floor).ok()?;
+    let set = |i: usize| sets.get(i).map(|mf| mf.parameters());
+    Some([set(0)?, set(1)?, set(2)?])
 }
 
 #[cfg(test)]
@@ -405,6 +492,28 @@ mod tests {
         assert!(!convinces(&diverging, &worse, 3, 0.0));
         assert!(convinces(&consistent, &current, 3, 2.0));
         assert!(!convinces(&noisy, &current, 3, 2.0));
+    }
+
+    /// A premise candidate's sets sit at the training data's quantiles of its speed: the
+    /// middle one at the median of the vertical speed (the paper axes' `y`, up); the
+    /// translational model has no side speed to be scheduled on.
+    #[test]
+    fn premise_candidates_sit_at_the_training_datas_quantiles() {
+        let log = rotorid_sim::flights::identification_flight_for(1, 40.0).unwrap();
+        let samples = rotorid_sim::flights::to_hover_samples(&log);
+        let training = vec![samples.clone()];
+        let [l, c, r] = quantile_schedule(&training, 0, ScheduledOn::VerticalSpeed).unwrap();
+        let mut up: Vec<f32> = samples.iter().map(|s| s.velocity[1]).collect();
+        up.sort_by(f32::total_cmp);
+        let median = up[((up.len() - 1) as f64 * 0.5 + 0.5) as usize];
+        assert_eq!(c.0.to_bits(), median.to_bits());
+        assert!(l.0 < c.0 && c.0 < r.0, "{l:?} {c:?} {r:?}");
+        assert!([l, c, r].iter().all(|s| s.1 > 0.0));
+        // The rate models' up speed is the same variable of their own premise.
+        let rate = quantile_schedule(&training, 1, ScheduledOn::VerticalSpeed).unwrap();
+        assert_eq!(rate[1].0.to_bits(), median.to_bits());
+        assert!(quantile_schedule(&training, 1, ScheduledOn::SideSpeed).is_some());
+        assert!(quantile_schedule(&training, 0, ScheduledOn::SideSpeed).is_none());
     }
 
     #[test]
