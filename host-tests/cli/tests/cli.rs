@@ -935,3 +935,78 @@ fn plant_variation_flies_another_helicopter_reproducibly() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--premise-candidates`: on the flybarless helicopter's hover identification flight (seed 2,
+/// a pair of docs/ab-premises.md) `flight selected` moves its translational model to the
+/// vertical speed, which the verdict names and `params-flight selected.json` carries (the sets
+/// on the premise's second variable, `[|v_h| up 0]`); without the option every model stays on
+/// the flight default's speed, and the other variants are the same bits either way.
+#[test]
+fn premise_candidates_move_a_models_rules_to_another_speed() {
+    let dir = tmpdir("premise-candidates");
+    let sim = |kind: &str, seed: &str, duration: &str, name: &str| {
+        let out = dir.join(name);
+        let o = run(bin()
+            .args([
+                "simulate",
+                "--plant",
+                "flybarless600",
+                "--kind",
+                kind,
+                "--seed",
+                seed,
+            ])
+            .args(["--duration", duration, "-o"])
+            .arg(&out));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        out
+    };
+    let train = sim("identification", "2", "255", "ident.csv");
+    let verify = sim("verification", "102", "20", "verify.csv");
+    let with = identify_metrics(
+        &train,
+        &verify,
+        &dir.join("with"),
+        &["--premise-candidates"],
+    );
+    let without = identify_metrics(&train, &verify, &dir.join("without"), &[]);
+    let moved = |m: &serde_json::Value| {
+        m["verdict"]["terms_off"]
+            .as_array()
+            .expect("terms_off")
+            .iter()
+            .filter_map(|t| t.as_str())
+            .filter(|t| t.contains(": rules on the "))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert!(
+        moved(&with).contains(&"velocity: rules on the vertical speed".to_string()),
+        "{:?}",
+        moved(&with)
+    );
+    assert!(moved(&without).is_empty());
+    let params: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("with").join("params-flight-selected.json")).unwrap(),
+    )
+    .unwrap();
+    let velocity = &params[0];
+    assert_eq!(velocity["model"], "velocity");
+    let variables = velocity["premise"]["variables"]
+        .as_array()
+        .expect("premise");
+    assert!(variables[0].as_array().unwrap().is_empty());
+    assert_eq!(variables[1].as_array().unwrap().len(), 3);
+    let names: Vec<_> = with["variants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v["name"].as_str().unwrap().to_string())
+        .collect();
+    for (i, name) in names.iter().enumerate() {
+        if name != "flight selected" {
+            assert_eq!(with["variants"][i], without["variants"][i], "{name}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
