@@ -33,6 +33,11 @@
 //!   did to yaw on plant variations). Then the terms: the term whose removal gives the
 //!   lowest score is switched off if the score does not get worse, and the search goes on
 //!   until every removal makes it worse (ties go to the simpler model).
+//! * With [`select_terms_and_schedules`] (`rotorid identify --premise-candidates`), after its
+//!   terms: the speed a model's three rules are on. A model that kept its rules and beats
+//!   hold on the check blocks moves to the side speed (rate models) or the vertical speed,
+//!   its sets at the training data's quantiles of that speed, if that lowers its score by
+//!   more than two standard errors of the paired block differences (docs/ab-premises.md).
 //! * Last, per rate, the gyro-noise compensation: full ([`GyroCompensation::Full`]) replaces
 //!   the default's where it lowers the model's score.
 //! * [`select_terms_with`] can ask more of a removal: that it lower the check blocks' free
