@@ -318,12 +318,16 @@ pub fn verdict(
                 full_compensation.join(", ")
             )
         };
-        if terms_off.iter().any(|t| t.contains(": rules on the ")) {
-            // `--premise-candidates` moved some model's rules to another speed.
-            format!("{why}; the flight default's rules and terms that the training data did not support are switched off, or its rules scheduled on another speed where the data predict better so ({off}; `rules`: that model has one rule, not scheduled on the speed; `rules on the …`: its three rules are on that speed){full}")
+        // `--premise-candidates` may have moved some model's rules to another speed.
+        let (moved, legend) = if terms_off.iter().any(|t| t.contains(": rules on the ")) {
+            (
+                ", or its rules scheduled on another speed where the data predict better so",
+                "; `rules on the …`: its three rules are on that speed",
+            )
         } else {
-            format!("{why}; the flight default's rules and terms that the training data did not support are switched off ({off}; `rules`: that model has one rule, not scheduled on the speed){full}")
-        }
+            ("", "")
+        };
+        format!("{why}; the flight default's rules and terms that the training data did not support are switched off{moved} ({off}; `rules`: that model has one rule, not scheduled on the speed{legend}){full}")
     } else {
         why
     };

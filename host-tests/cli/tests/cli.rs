@@ -39,6 +39,11 @@ fn text(b: &[u8]) -> String {
 }
 
 fn simulate(dir: &Path, kind: &str, seed: &str, duration: &str) -> PathBuf {
+    simulate_with(dir, kind, seed, duration, &[])
+}
+
+/// [`simulate`] with `extra` options (`--plant …`).
+fn simulate_with(dir: &Path, kind: &str, seed: &str, duration: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(format!("{kind}.csv"));
     let o = run(bin()
         .args([
@@ -49,8 +54,9 @@ fn simulate(dir: &Path, kind: &str, seed: &str, duration: &str) -> PathBuf {
             seed,
             "--duration",
             duration,
-            "-o",
         ])
+        .args(extra)
+        .arg("-o")
         .arg(&out));
     assert!(o.status.success(), "{}", text(&o.stderr));
     out
@@ -944,25 +950,9 @@ fn plant_variation_flies_another_helicopter_reproducibly() {
 #[test]
 fn premise_candidates_move_a_models_rules_to_another_speed() {
     let dir = tmpdir("premise-candidates");
-    let sim = |kind: &str, seed: &str, duration: &str, name: &str| {
-        let out = dir.join(name);
-        let o = run(bin()
-            .args([
-                "simulate",
-                "--plant",
-                "flybarless600",
-                "--kind",
-                kind,
-                "--seed",
-                seed,
-            ])
-            .args(["--duration", duration, "-o"])
-            .arg(&out));
-        assert!(o.status.success(), "{}", text(&o.stderr));
-        out
-    };
-    let train = sim("identification", "2", "255", "ident.csv");
-    let verify = sim("verification", "102", "20", "verify.csv");
+    let plant = ["--plant", "flybarless600"];
+    let train = simulate_with(&dir, "identification", "2", "255", &plant);
+    let verify = simulate_with(&dir, "verification", "102", "20", &plant);
     let with = identify_metrics(
         &train,
         &verify,

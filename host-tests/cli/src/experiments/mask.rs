@@ -227,14 +227,15 @@ impl Schedule {
             .enumerate()
             .find(|(_, v)| !v.is_empty())?;
         let on = ScheduledOn::of_variable(model, variable)?;
-        let shapes = sets.iter().map(|s| s.shape.as_str()).collect::<Vec<_>>();
-        if shapes != ["left", "gaussian", "right"] {
+        let [l, c, r] = sets.as_slice() else {
+            return None;
+        };
+        if [l, c, r].map(|s| s.shape.as_str()) != ["left", "gaussian", "right"] {
             return None;
         }
-        let set = |i: usize| sets.get(i).map_or((0.0, 1.0), |s| (s.centre, s.spread));
         Some(Self {
             on,
-            sets: [set(0), set(1), set(2)],
+            sets: [l, c, r].map(|s| (s.centre, s.spread)),
         })
     }
 }
@@ -263,25 +264,22 @@ pub fn masked_flight(
     mask: TermMask,
     period_us: u32,
 ) -> Result<FlightIdentifier<f32>, rotorid::Error> {
+    // A model with one rule is not scheduled at all, whatever its schedule says.
     let schedule = |m: usize| mask.schedule[m].filter(|_| !mask.has_one_rule(m));
     let sets = core::array::from_fn(|m| match schedule(m) {
-        _ if mask.has_one_rule(m) => unscheduled_sets(),
         Some(Schedule {
             sets: [l, c, r], ..
         }) => {
             let wide = |(c, s): (f32, f32)| (f64::from(c), f64::from(s));
             table3::three_sets(wide(l), wide(c), wide(r))
         }
+        None if mask.has_one_rule(m) => unscheduled_sets(),
         None => flight_sets(),
     });
-    let config = at(HoverConfig::default(), period_us);
-    let mut flight = if mask.schedule.iter().all(Option::is_none) {
-        FlightIdentifier::<f32>::flight_per_model(config, sets)?
-    } else {
-        let on =
-            core::array::from_fn(|m| schedule(m).map_or(Scheduling::Speed, |s| s.on.scheduling()));
-        FlightIdentifier::<f32>::flight_scheduled(config, sets, on)?
-    };
+    let on = core::array::from_fn(|m| schedule(m).map_or(Scheduling::Speed, |s| s.on.scheduling()));
+    // With the speed four times this is `flight_per_model`, bit for bit (core's tests).
+    let mut flight =
+        FlightIdentifier::<f32>::flight_scheduled(at(HoverConfig::default(), period_us), sets, on)?;
     if mask.off == [0; 4] {
         return Ok(flight);
     }

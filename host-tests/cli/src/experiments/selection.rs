@@ -334,6 +334,14 @@ fn select(
         ..TermSelection::default()
     };
     let gyro_noise = gyro_noise_of(training);
+    // The candidates' sets, once: the vertical speed is the same variable of the velocity's
+    // and the rates' premises (the paper axes' `y`), the side speed the rates' alone.
+    let side = schedules
+        .then(|| quantile_schedule(training, 1, ScheduledOn::SideSpeed))
+        .flatten();
+    let vertical = schedules
+        .then(|| quantile_schedule(training, 0, ScheduledOn::VerticalSpeed))
+        .flatten();
     let mut mask = TermMask::default();
     let mut current = score(mask, &folds, period_us, window, gyro_noise)?;
     selection.full = current.ratios;
@@ -380,15 +388,15 @@ fn select(
         // Then the speed its rules are on (only with `schedules`; see
         // `select_terms_and_schedules`), with the terms chosen.
         if schedules && !mask.has_one_rule(m) && current.key(m).1 < 1.0 {
-            let candidates: &[ScheduledOn] = if m == 0 {
-                &[ScheduledOn::VerticalSpeed]
+            let candidates = if m == 0 {
+                [None, vertical.map(|s| (ScheduledOn::VerticalSpeed, s))]
             } else {
-                &[ScheduledOn::SideSpeed, ScheduledOn::VerticalSpeed]
+                [
+                    side.map(|s| (ScheduledOn::SideSpeed, s)),
+                    vertical.map(|s| (ScheduledOn::VerticalSpeed, s)),
+                ]
             };
-            for &on in candidates {
-                let Some(sets) = quantile_schedule(training, m, on) else {
-                    continue;
-                };
+            for (on, sets) in candidates.into_iter().flatten() {
                 let candidate = mask.scheduled(m, Schedule { on, sets });
                 let score = score(candidate, &folds, period_us, window, gyro_noise)?;
                 selection.candidates += 1;

@@ -55,15 +55,13 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
     let mut reader = Reader::new(input);
     let err = |e| read_error(file, FORMAT, e);
     let mut now: Option<f64> = None;
-    let mut untimed = 0usize;
+    let mut untimed = false;
     while let Some(e) = reader.next_record().map_err(err)? {
         if e.format.name == "TIME" {
             now = e.get("StartTime").map(|us| us / 1e6).or(now);
             continue;
         }
-        if now.is_none() {
-            untimed += 1;
-        }
+        untimed |= now.is_none();
         let Some(t) = now else {
             continue;
         };
@@ -137,7 +135,7 @@ pub fn channels(file: &str, input: impl Read) -> Result<(Channels, Vec<String>),
         remark: remark.clone(),
         context: Box::default(),
     };
-    if now.is_none() && untimed > 0 {
+    if now.is_none() && untimed {
         // Rows, and not one `TIME` among them: nothing says when any was logged.
         return Err(missing(
             "time stamps",
