@@ -71,8 +71,9 @@ lines = [
     "",
     f"`scripts/term-evidence.sh {pairs}`: the seed pairs of docs/seeds.md (training flight seed k, "
     "verification flight seed 100 + k), each identified by `rotorid-lab identify-terms --train … --verify …`. "
-    "`flight selected` is the product's selection: per model, a term is switched off whenever its removal does "
-    "not make the free run on the training log's check blocks worse (docs/cli.md). `flight selected 2 SE` "
+    "`flight selected` is the product's term selection: per model, a term is switched off whenever its removal does "
+    "not make the free run on the training log's check blocks worse (docs/cli.md); here, as in the three others, "
+    "without the product's premise candidates (`--no-premise-candidates`), so that the four differ in the terms alone. `flight selected 2 SE` "
     "switches it off only when the removal lowers that free run by more than two standard errors of the paired "
     "block differences (the partial-F ≥ 4 of stepwise regression, asked of the removal), or when it leaves fewer "
     "free-run windows diverging (such a window's error covers only the steps before it left the sample limits, so "

@@ -140,7 +140,7 @@ pub fn unscheduled_sets<T: Real>() -> PremiseSets<T> {
 /// inflow, and so the forces and moments per control, also change with sideways flight (the
 /// tail rotor's thrust and the fin's side force) and with climb and descent (a rotor
 /// descending into its own wake loses thrust). Which one changes a helicopter's dynamics
-/// most is for its data to say (`rotorid identify --premise-candidates`).
+/// most is for its data to say (`rotorid identify`'s `flight selected` chooses per model).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]

@@ -110,13 +110,14 @@ pub struct IdentifyOptions {
     /// (`VX,VY,VZ,Q,R,P`) are each state's.
     #[arg(long, default_value = "auto", value_parser = parse_observer_gain)]
     pub observer_gain: ObserverGain,
-    /// Let `flight selected` also choose, per model, the speed its three rules are on: the
-    /// flight default's forward (horizontal) speed, the side speed (rate models) or the
-    /// vertical speed, with sets at the training data's quantiles, where the held-out blocks
-    /// of the training data show it predicts better by more than their noise. Off by
-    /// default until its evidence covers every plant (docs/ab-premises.md).
+    /// Keep every model of `flight selected` on the flight default's speed (forward for the
+    /// rates, horizontal for the velocities). By default `flight selected` also chooses, per
+    /// model that keeps three rules, the speed they are on: that one, the side speed (rate
+    /// models) or the vertical speed, with sets at the training data's quantiles, where the
+    /// held-out blocks of the training data show it predicts better by more than their noise
+    /// (docs/ab-premises.md).
     #[arg(long)]
-    pub premise_candidates: bool,
+    pub no_premise_candidates: bool,
 }
 
 impl IdentifyOptions {
@@ -142,7 +143,7 @@ impl IdentifyOptions {
             gyro_compensation: self.gyro_compensation.into(),
             free_run_velocity: self.free_run_velocity.into(),
             observer_gain: self.observer_gain,
-            premise_candidates: self.premise_candidates,
+            premise_candidates: !self.no_premise_candidates,
         }
     }
 }

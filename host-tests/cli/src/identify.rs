@@ -75,7 +75,7 @@ pub struct IdentifyArgs {
     /// when every log is an autopilot's ([`experiments::select_delay`]), 0 for CSV logs.
     pub control_delay_s: Option<f64>,
     /// Whether `flight selected` also chooses the speed each model's rules are on
-    /// ([`experiments::variants_with`]).
+    /// ([`experiments::variants_with`]; `true` by default, `--no-premise-candidates`).
     pub premise_candidates: bool,
 }
 
@@ -98,7 +98,7 @@ impl IdentifyArgs {
             free_run_velocity: experiments::FreeRunVelocity::Model,
             observer_gain: ObserverGain::Auto,
             control_delay_s: None,
-            premise_candidates: false,
+            premise_candidates: true,
         }
     }
 }

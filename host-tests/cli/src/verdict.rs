@@ -318,7 +318,7 @@ pub fn verdict(
                 full_compensation.join(", ")
             )
         };
-        // `--premise-candidates` may have moved some model's rules to another speed.
+        // The premise candidates may have moved some model's rules to another speed.
         let (moved, legend) = if terms_off.iter().any(|t| t.contains(": rules on the ")) {
             (
                 ", or its rules scheduled on another speed where the data predict better so",

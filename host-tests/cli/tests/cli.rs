@@ -942,24 +942,25 @@ fn plant_variation_flies_another_helicopter_reproducibly() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `--premise-candidates`: on the flybarless helicopter's hover identification flight (seed 2,
-/// a pair of docs/ab-premises.md) `flight selected` moves its translational model to the
-/// vertical speed, which the verdict names and `params-flight selected.json` carries (the sets
-/// on the premise's second variable, `[|v_h| up 0]`); without the option every model stays on
-/// the flight default's speed, and the other variants are the same bits either way.
+/// The premise candidates (on by default): on the flybarless helicopter's hover identification
+/// flight (seed 2, a pair of docs/ab-premises.md) `flight selected` moves its translational
+/// model to the vertical speed, which the verdict names and `params-flight selected.json`
+/// carries (the sets on the premise's second variable, `[|v_h| up 0]`); with
+/// `--no-premise-candidates` every model stays on the flight default's speed, and the other
+/// variants are the same bits either way.
 #[test]
 fn premise_candidates_move_a_models_rules_to_another_speed() {
     let dir = tmpdir("premise-candidates");
     let plant = ["--plant", "flybarless600"];
     let train = simulate_with(&dir, "identification", "2", "255", &plant);
     let verify = simulate_with(&dir, "verification", "102", "20", &plant);
-    let with = identify_metrics(
+    let with = identify_metrics(&train, &verify, &dir.join("with"), &[]);
+    let without = identify_metrics(
         &train,
         &verify,
-        &dir.join("with"),
-        &["--premise-candidates"],
+        &dir.join("without"),
+        &["--no-premise-candidates"],
     );
-    let without = identify_metrics(&train, &verify, &dir.join("without"), &[]);
     let moved = |m: &serde_json::Value| {
         m["verdict"]["terms_off"]
             .as_array()

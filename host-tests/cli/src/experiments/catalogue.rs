@@ -19,18 +19,18 @@ use super::variants::{at, Variant};
 
 /// The identifier variants `rotorid identify` compares. The first two are Table 4's columns.
 pub fn variants() -> Vec<Variant> {
-    variants_with(false)
+    variants_with(true)
 }
 
-/// [`variants`], where with `premise_candidates` `flight selected` also chooses per model the
-/// speed its rules are on ([`select_terms_and_schedules`]; `rotorid identify
-/// --premise-candidates`).
+/// [`variants`], where without `premise_candidates` `flight selected` keeps every model's
+/// rules on the flight default's speed and chooses its terms only ([`select_terms`];
+/// `rotorid identify --no-premise-candidates`, the product before the premise candidates).
 pub fn variants_with(premise_candidates: bool) -> Vec<Variant> {
     let mut all = catalogue();
-    if premise_candidates {
+    if !premise_candidates {
         for v in all.iter_mut().filter(|v| v.name == "flight selected") {
             v.build = |training, period| {
-                let selection = select_terms_and_schedules(training, period)?;
+                let selection = select_terms(training, period)?;
                 Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
             };
         }
@@ -124,10 +124,10 @@ fn catalogue() -> Vec<Variant> {
         },
         Variant {
             name: "flight selected",
-            description: "the flight default with the speed rules and optional terms its training data do not support switched off (per model: one rule instead of three if that is no worse, then backward elimination of terms, by free run on held-out blocks of the training data; a model's one rule is the first of three under sets that fire it alone, and a term is pinned at zero by a zero prior variance, so the exported state carries the choice)",
+            description: "the flight default with the speed rules and optional terms its training data do not support switched off (per model: one rule instead of three if that is no worse, then backward elimination of terms, by free run on held-out blocks of the training data; a model's one rule is the first of three under sets that fire it alone, and a term is pinned at zero by a zero prior variance, so the exported state carries the choice), then per model that keeps three rules the speed they are on (forward, side or vertical) where the held-out blocks show it predicts better by more than their noise",
             kind: Some(FlightIdentifier::<f32>::KIND),
             build: |training, period| {
-                let selection = select_terms(training, period)?;
+                let selection = select_terms_and_schedules(training, period)?;
                 Ok(Box::new(SelectedFlight::new(selection.mask, period)?))
             },
         },

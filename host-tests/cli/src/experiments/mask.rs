@@ -50,7 +50,7 @@ pub struct TermMask {
     #[serde(default)]
     pub full_compensation: [bool; 4],
     /// Per model, the speed its three rules are scheduled on when it is not the flight
-    /// default's (`None`; `--premise-candidates`).
+    /// default's (`None`; `flight selected`'s premise candidates).
     #[serde(default)]
     pub schedule: [Option<Schedule>; 4],
 }

@@ -33,7 +33,7 @@
 //!   did to yaw on plant variations). Then the terms: the term whose removal gives the
 //!   lowest score is switched off if the score does not get worse, and the search goes on
 //!   until every removal makes it worse (ties go to the simpler model).
-//! * With [`select_terms_and_schedules`] (`rotorid identify --premise-candidates`), after its
+//! * With [`select_terms_and_schedules`] (`rotorid identify`'s default), after its
 //!   terms: the speed a model's three rules are on. A model that kept its rules and beats
 //!   hold on the check blocks moves to the side speed (rate models) or the vertical speed,
 //!   its sets at the training data's quantiles of that speed, if that lowers its score by
@@ -296,8 +296,8 @@ pub fn select_terms_with(
     select(training, period_us, evidence, false)
 }
 
-/// [`select_terms`] with the premise candidates as well (`rotorid identify
-/// --premise-candidates`): after its terms, a model that keeps three rules and beats hold on
+/// [`select_terms`] with the premise candidates as well (`rotorid identify`'s `flight
+/// selected`): after its terms, a model that keeps three rules and beats hold on
 /// the check blocks may have them on the side speed (rate models) or the vertical speed
 /// instead of the flight default's speed, with three sets at the training data's quantiles
 /// ([`rotorid::premise::quantile_sets`]); such a change must lower the model's free run on
