@@ -241,14 +241,14 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
 ///
 /// | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
 /// |---|---|---|---|---|
-/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 284 | 54 494 |
-/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 590 |
-/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 246 |
-/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 014 |
+/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 292 | 54 534 |
+/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 598 |
+/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 262 |
+/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 022 |
 /// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
-/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 152 | 49 382 |
-/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 390 |
-/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 662 |
+/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 144 | 49 422 |
+/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 406 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 670 |
 ///
 /// # Safety
 /// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
