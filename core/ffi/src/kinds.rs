@@ -2,7 +2,6 @@
 //! kind answers.
 
 use rotorid::hover::{flight_sets, table3, AnyAttitude, Scheduling, StateModel};
-use rotorid::membership::MembershipFunction;
 use rotorid::{
     DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, PaperFuzzyIdentifier,
@@ -147,22 +146,7 @@ pub extern "C" fn rotorid_export_size(kind: u32) -> usize {
 }
 
 fn premise_sets(s: &rotorid_flight_sets_t) -> rotorid::rule_base::PremiseSets<f32> {
-    let [c0, c1, c2] = s.centre;
-    let [s0, s1, s2] = s.spread;
-    table3::sets(&[
-        MembershipFunction::LeftShoulder {
-            centre: c0,
-            spread: s0,
-        },
-        MembershipFunction::Gaussian {
-            centre: c1,
-            spread: s1,
-        },
-        MembershipFunction::RightShoulder {
-            centre: c2,
-            spread: s2,
-        },
-    ])
+    table3::shoulder_sets(s.centre, s.spread)
 }
 
 /// The speed sets an init was given.

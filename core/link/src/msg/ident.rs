@@ -4,7 +4,6 @@
 use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::error::Error;
 use rotorid::hover::{table3, Attitude, Controls, GyroCompensation, HoverSample, Scheduling};
-use rotorid::membership::MembershipFunction;
 use rotorid::rule_base::PremiseSets;
 
 wire_enum! {
@@ -326,27 +325,11 @@ impl PremisesMsg {
     /// Each model's three sets as the core takes them (a left shoulder, a Gaussian and a
     /// right shoulder), unchecked: [`rotorid::FlightIdentifier::flight_scheduled`] checks them.
     pub fn sets(&self) -> [PremiseSets<f32>; 4] {
+        let three = |of: &[f32; 12], m: usize| -> [f32; 3] {
+            core::array::from_fn(|i| of.get(3 * m + i).copied().unwrap_or(0.0))
+        };
         core::array::from_fn(|m| {
-            let at = |i: usize| {
-                let k = 3 * m + i;
-                let (c, s) = (self.centre.get(k), self.spread.get(k));
-                (c.copied().unwrap_or(0.0), s.copied().unwrap_or(0.0))
-            };
-            let ((c0, s0), (c1, s1), (c2, s2)) = (at(0), at(1), at(2));
-            table3::sets(&[
-                MembershipFunction::LeftShoulder {
-                    centre: c0,
-                    spread: s0,
-                },
-                MembershipFunction::Gaussian {
-                    centre: c1,
-                    spread: s1,
-                },
-                MembershipFunction::RightShoulder {
-                    centre: c2,
-                    spread: s2,
-                },
-            ])
+            table3::shoulder_sets(three(&self.centre, m), three(&self.spread, m))
         })
     }
 
@@ -367,6 +350,7 @@ mod tests {
     use super::super::message::Payload;
     use super::*;
     use rotorid::error::Quantity;
+    use rotorid::membership::MembershipFunction;
 
     fn sample() -> HoverSample<f32> {
         HoverSample {
