@@ -11,8 +11,8 @@ use embedded_io::{Read, Write};
 use rotorid_link::{
     msg::{
         Ack, CompensateEachMsg, CompensateMsg, CostReport, CostRequest, DataChunk, FaultKind,
-        Hello, IdentRequest, MemoryReport, MsgType, Nack, NackReason, Payload, RateCompensation,
-        ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
+        Hello, IdentRequest, MemoryReport, MsgType, Nack, NackReason, Payload, PremisesMsg,
+        RateCompensation, ResetMsg, SampleMsg, StatsReport, SweepStart, Workload,
     },
     Frame, FrameDecoder, FrameEncoder, PayloadError, Writer, MAX_PAYLOAD, MAX_WIRE_LEN,
 };
@@ -276,6 +276,16 @@ fn handle<U: Write, P: Platform, T: Write>(
                 Err(_) => out.nack(seq, code, NackReason::BadPayload),
             }
         }
+        Some(MsgType::Premises) => match PremisesMsg::read(frame.payload) {
+            Ok(m) => match engine.premises(&m) {
+                Ok(()) => Reply::ack(out, seq, code),
+                Err(e) => {
+                    defmt::warn!("premises refused: {}", e);
+                    out.nack(seq, code, NackReason::Refused)
+                }
+            },
+            Err(_) => out.nack(seq, code, NackReason::BadPayload),
+        },
         Some(MsgType::ParamsRequest) => match IdentRequest::read(frame.payload) {
             Ok(r) => {
                 if let Some(thetas) = engine.thetas(r.ident) {

@@ -20,7 +20,8 @@ use rotorid::{
 use rotorid_link::msg::{
     self, Ack, CompensateEachMsg, CompensateMsg, DataChunk, Estimate, IdOutput, Ident, IdentPair,
     IdentRequest, MemoryReport, MsgType, Nack, NackReason, ParamField, ParamsChunk, Payload,
-    RateCompensation, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+    PremisesMsg, RateCompensation, ResetMsg, RlsForm, SampleMode, SampleMsg, SweepSample,
+    SweepStart,
 };
 use rotorid_link::{Answer, SampleChain, Writer};
 
@@ -352,6 +353,11 @@ pub struct Onboard {
     pub mirror: Mirror,
     /// Samples streamed since the last reset.
     pub streamed: usize,
+    /// The flight default's premises the last `Premises` set (the firmware keeps them across
+    /// `Reset`); `None`: `flight_sets()` on the flight default's speed.
+    premises: Option<PremisesMsg>,
+    /// The RLS form of the last `Reset`.
+    form: RlsForm,
 }
 
 /// What streaming returned.
@@ -382,6 +388,8 @@ impl Onboard {
             link,
             mirror: Mirror::new(RlsForm::UdDefault).map_err(OnboardError::Core)?,
             streamed: 0,
+            premises: None,
+            form: RlsForm::UdDefault,
         };
         me.reset(form)?;
         Ok(me)
@@ -398,7 +406,26 @@ impl Onboard {
         let f = self.link.request(MsgType::Reset, &p, MsgType::Ack)?;
         expect_ack(&f, MsgType::Reset)?;
         self.mirror = Mirror::with_pair(form, pair).map_err(OnboardError::Core)?;
+        self.form = form;
+        if let Some(m) = self.premises {
+            self.mirror.flight = scheduled_flight(form, &m)?;
+        }
         self.streamed = 0;
+        Ok(())
+    }
+
+    /// `Premises` on both sides: the flight pair's `FlightIdentifier` rebuilt on `m`'s sets
+    /// and speeds (θ = 0, P = αI; kept across `Reset`). On the firmware's `Nack` (the core
+    /// refused them) an error, and the mirror is as it was.
+    pub fn premises(&mut self, m: PremisesMsg) -> Result<(), OnboardError> {
+        let p = payload(|w| m.write(w));
+        let f = self.link.request(MsgType::Premises, &p, MsgType::Ack)?;
+        expect_ack(&f, MsgType::Premises)?;
+        self.mirror.flight = scheduled_flight(self.form, &m)?;
+        if self.mirror.pair == IdentPair::Flight {
+            self.mirror.fuzzy_chain = SampleChain::new();
+        }
+        self.premises = Some(m);
         Ok(())
     }
 
@@ -646,6 +673,12 @@ impl Onboard {
             .request(MsgType::MemoryRequest, &[], MsgType::Memory)?;
         MemoryReport::read(&f.payload).map_err(|e| OnboardError::Protocol(format!("Memory: {e}")))
     }
+}
+
+/// The firmware's `FlightIdentifier` after `Premises` `m` in `form`.
+fn scheduled_flight(form: RlsForm, m: &PremisesMsg) -> Result<FlightIdentifier<f32>, OnboardError> {
+    FlightIdentifier::flight_scheduled(config(form), m.sets(), m.scheduling())
+        .map_err(OnboardError::Core)
 }
 
 fn expect_ack(f: &OwnedFrame, t: MsgType) -> Result<(), OnboardError> {

@@ -483,3 +483,88 @@ fn flight_pair_learns_predicts_and_free_runs_bit_for_bit() {
         Err(OnboardError::Protocol(_))
     ));
 }
+
+/// `Premises` over the link: the flight pair's `FlightIdentifier` rebuilt on other sets and
+/// speeds (what `flight selected` flies when it moves a model's rules) learns bit for bit as
+/// the host's `FlightIdentifier::flight_scheduled`, keeps them across `Reset`, and learns
+/// otherwise than the flight default; premises the core refuses (the velocity model on the
+/// side speed) and an unknown speed are refused with nothing changed.
+#[test]
+fn premises_rebuild_the_flight_pair_bit_for_bit() {
+    use rotorid::FlightIdentifier;
+    use rotorid_link::msg::{IdentPair, PremisesMsg, Schedule};
+    use rotorid_sim::envelope::{envelope_flight, EnvelopeKind};
+    use rotorid_sim::flights::to_hover_samples;
+    let flight =
+        to_hover_samples(&envelope_flight(1, EnvelopeKind::Identification).expect("flight"));
+    let mut ob = Onboard::boot(RlsForm::UdDefault, false).expect("boot");
+    ob.reset_pair(RlsForm::UdDefault, IdentPair::Flight)
+        .expect("reset");
+    let m = PremisesMsg {
+        on: [
+            Schedule::VerticalSpeed,
+            Schedule::SideSpeed,
+            Schedule::Speed,
+            Schedule::VerticalSpeed,
+        ],
+        centre: [
+            -1.0, 0.0, 1.0, -2.0, 0.0, 2.0, 0.0, 5.0, 10.0, -1.0, 0.0, 1.0,
+        ],
+        spread: [0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 2.5, 2.5, 2.5, 0.5, 0.5, 0.5],
+    };
+    ob.premises(m).expect("premises");
+    // Kept across a Reset (the mirror rebuilds them too).
+    ob.reset_pair(RlsForm::UdDefault, IdentPair::Flight)
+        .expect("reset");
+    let learned = ob
+        .stream(&messages(&flight[..400], SampleMode::Learn), |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(learned.estimates.iter().all(|e| e.fuzzy.error.is_none()));
+    let scheduled = ob.export(Ident::Fuzzy).expect("export");
+    assert_eq!(scheduled, ob.mirror.export(Ident::Fuzzy));
+    // The flight default on the same samples learns something else.
+    let mut default = Mirror::with_pair(RlsForm::UdDefault, IdentPair::Flight).expect("mirror");
+    for s in messages(&flight[..400], SampleMode::Learn) {
+        default.apply(&s);
+    }
+    assert_ne!(scheduled, default.export(Ident::Fuzzy));
+    let host = FlightIdentifier::flight_scheduled(
+        rotorid::HoverConfig::default(),
+        m.sets(),
+        m.scheduling(),
+    )
+    .expect("host build");
+    assert_eq!(
+        rotorid::snapshot::Snapshot::config_hash(&host),
+        rotorid::snapshot::Snapshot::config_hash(&ob.mirror.flight)
+    );
+
+    // Refused, nothing changed: the core's refusal, then a speed this build does not know.
+    let mut sideways = m;
+    sideways.on[0] = Schedule::SideSpeed;
+    let refused = payload(|w| sideways.write(w));
+    let f = ob
+        .link
+        .request(MsgType::Premises, &refused, MsgType::Nack)
+        .expect("nack");
+    assert_eq!(
+        Nack::read(&f.payload).expect("nack payload").reason,
+        NackReason::Refused as u8
+    );
+    let mut unknown = payload(|w| m.write(w));
+    unknown[2] = 7;
+    let f = ob
+        .link
+        .request(MsgType::Premises, &unknown, MsgType::Nack)
+        .expect("nack");
+    assert_eq!(
+        Nack::read(&f.payload).expect("nack payload").reason,
+        NackReason::BadPayload as u8
+    );
+    assert_eq!(ob.export(Ident::Fuzzy).expect("export"), scheduled);
+    let memory = ob.memory().expect("memory");
+    assert!(
+        memory.static_ram + memory.stack_peak <= 40 * 1024,
+        "{memory:?}"
+    );
+}

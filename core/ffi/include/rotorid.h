@@ -444,6 +444,25 @@
 #define ROTORID_EXTENDED_LOCAL_EXPORT_SIZE 3628
 
 /**
+ * `rotorid_init_flight_scheduled`'s choice for a model: its three sets on the flight
+ * default's speed, the horizontal speed for the velocity model and the forward speed for
+ * the rate models (`rotorid::hover::Scheduling::Speed`).
+ */
+#define ROTORID_SCHEDULE_SPEED 0
+
+/**
+ * `rotorid_init_flight_scheduled`'s choice for a rate model: its sets on the side speed
+ * (heading frame, m/s; `rotorid::hover::Scheduling::SideSpeed`).
+ */
+#define ROTORID_SCHEDULE_SIDE_SPEED 1
+
+/**
+ * `rotorid_init_flight_scheduled`'s choice for a model: its sets on the vertical speed (up,
+ * m/s; `rotorid::hover::Scheduling::VerticalSpeed`).
+ */
+#define ROTORID_SCHEDULE_VERTICAL_SPEED 2
+
+/**
  * Bytes a persistence record adds to the export of its kind (header 24, CRC-32 4):
  * `rotorid_record_size(kind) == rotorid_export_size(kind) + ROTORID_RECORD_OVERHEAD`.
  */
@@ -1026,14 +1045,14 @@ int32_t rotorid_state_to_ned_frd(const rotorid_state_t *state,
  *
  * | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
  * |---|---|---|---|---|
- * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 284 | 54 494 |
- * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 590 |
- * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 246 |
- * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 014 |
+ * | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 292 | 54 534 |
+ * | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 598 |
+ * | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 262 |
+ * | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 022 |
  * | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
- * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 152 | 49 382 |
- * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 390 |
- * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 662 |
+ * | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 144 | 49 422 |
+ * | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 406 |
+ * | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 670 |
  *
  * # Safety
  * `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
@@ -1078,6 +1097,33 @@ int32_t rotorid_init_flight_per_model(void *storage,
                                       size_t storage_size,
                                       const rotorid_config_t *config,
                                       const rotorid_flight_sets_t *sets,
+                                      rotorid_ident_t **handle,
+                                      rotorid_error_t *error);
+
+/**
+ * `rotorid_init_flight_per_model` with each model's three sets on the speed `schedules`
+ * names for it: four `ROTORID_SCHEDULE_*` codes in the same order (velocity, q̂, r̂, p̂),
+ * `rotorid::FlightIdentifier::flight_scheduled`. What `rotorid identify`'s `flight selected`
+ * flies when it moves a model's rules to another speed (`r: rules on the side speed` in its
+ * verdict; in `params-flight selected.json` the premise variable that carries a model's sets
+ * names its speed, see `docs/c-interface.md`). With `ROTORID_SCHEDULE_SPEED` four times it
+ * is `rotorid_init_flight_per_model`, bit for bit; a firmware that never calls it links
+ * none of its choice.
+ *
+ * Required: `storage`, `sets` (four), `schedules` (four), `handle` (NULL: `ROTORID_E_NULL`).
+ * Codes: those of `rotorid_init_flight_per_model`, and ARGUMENT for a code that is not a
+ * `ROTORID_SCHEDULE_*`, CONFIG_DIMENSIONS for the velocity model on
+ * `ROTORID_SCHEDULE_SIDE_SPEED` (its premise has no side speed).
+ *
+ * # Safety
+ * As `rotorid_init_flight_per_model`, and `schedules` is NULL or valid for reads of four
+ * `uint32_t`.
+ */
+int32_t rotorid_init_flight_scheduled(void *storage,
+                                      size_t storage_size,
+                                      const rotorid_config_t *config,
+                                      const rotorid_flight_sets_t *sets,
+                                      const uint32_t *schedules,
                                       rotorid_ident_t **handle,
                                       rotorid_error_t *error);
 

@@ -241,14 +241,14 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
 ///
 /// | kind | storage (B) | export (B) | stack (B) | firmware text (B) |
 /// |---|---|---|---|---|
-/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 284 | 54 494 |
-/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 590 |
-/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 246 |
-/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 014 |
+/// | `ROTORID_KIND_FLIGHT` (the flight default) | 2 984 | 1 900 | 4 292 | 54 534 |
+/// | `ROTORID_KIND_FLIGHT_PLAIN` | 1 664 | 644 | 3 324 | 53 598 |
+/// | `ROTORID_KIND_PAPER_FUZZY` | 11 280 | 10 524 | 12 780 | 55 262 |
+/// | `ROTORID_KIND_PAPER_PLAIN` | 880 | 128 | 2 584 | 47 022 |
 /// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
-/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 152 | 49 382 |
-/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 390 |
-/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 662 |
+/// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 144 | 49 422 |
+/// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 406 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 670 |
 ///
 /// # Safety
 /// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are
@@ -340,6 +340,66 @@ pub unsafe extern "C" fn rotorid_init_flight_per_model(
             error,
         )
     }
+}
+
+/// `rotorid_init_flight_per_model` with each model's three sets on the speed `schedules`
+/// names for it: four `ROTORID_SCHEDULE_*` codes in the same order (velocity, q̂, r̂, p̂),
+/// `rotorid::FlightIdentifier::flight_scheduled`. What `rotorid identify`'s `flight selected`
+/// flies when it moves a model's rules to another speed (`r: rules on the side speed` in its
+/// verdict; in `params-flight selected.json` the premise variable that carries a model's sets
+/// names its speed, see `docs/c-interface.md`). With `ROTORID_SCHEDULE_SPEED` four times it
+/// is `rotorid_init_flight_per_model`, bit for bit; a firmware that never calls it links
+/// none of its choice.
+///
+/// Required: `storage`, `sets` (four), `schedules` (four), `handle` (NULL: `ROTORID_E_NULL`).
+/// Codes: those of `rotorid_init_flight_per_model`, and ARGUMENT for a code that is not a
+/// `ROTORID_SCHEDULE_*`, CONFIG_DIMENSIONS for the velocity model on
+/// `ROTORID_SCHEDULE_SIDE_SPEED` (its premise has no side speed).
+///
+/// # Safety
+/// As `rotorid_init_flight_per_model`, and `schedules` is NULL or valid for reads of four
+/// `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn rotorid_init_flight_scheduled(
+    storage: *mut core::ffi::c_void,
+    storage_size: usize,
+    config: *const rotorid_config_t,
+    sets: *const rotorid_flight_sets_t,
+    schedules: *const u32,
+    handle: *mut *mut rotorid_ident_t,
+    error: *mut rotorid_error_t,
+) -> i32 {
+    let kind = ROTORID_KIND_FLIGHT;
+    // SAFETY: the caller's contract: four sets where `sets` points, four codes where
+    // `schedules` does.
+    let (each, codes) = unsafe {
+        (
+            sets.cast::<[rotorid_flight_sets_t; 4]>().as_ref(),
+            schedules.cast::<[u32; 4]>().as_ref(),
+        )
+    };
+    let result = match (each, codes.map(scheduling)) {
+        (Some(each), Some(Some(on))) => {
+            // `ScheduledFlight` is the flight kind's identifier built by `flight_scheduled`
+            // (the storage holds a `FlightIdentifier`; every other call takes it as one).
+            // SAFETY: the caller's contract.
+            let prepared = unsafe {
+                prepare::<ScheduledFlight>(
+                    kind,
+                    storage,
+                    storage_size,
+                    config,
+                    Sets::Scheduled(each, on),
+                    handle,
+                )
+            };
+            prepared.map(|()| register::<rotorid::FlightIdentifier<f32>>(kind))
+        }
+        (Some(_), Some(None)) => Err(rotorid_error_t::interface(ROTORID_E_ARGUMENT)),
+        _ => Err(rotorid_error_t::interface(ROTORID_E_NULL)),
+    };
+    // SAFETY: the caller's contract.
+    unsafe { report(result, error) }
 }
 
 /// `rotorid_init` for `ROTORID_KIND_FLIGHT_PLAIN`, linking that kind only.

@@ -1,8 +1,7 @@
 //! The identifier kinds of the C interface: codes, sizes, how each is built, and the calls any
 //! kind answers.
 
-use rotorid::hover::{flight_sets, table3, AnyAttitude, StateModel};
-use rotorid::membership::MembershipFunction;
+use rotorid::hover::{flight_sets, table3, AnyAttitude, Scheduling, StateModel};
 use rotorid::{
     DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
     FlightIdentifier, FlightPlainIdentifier, HoverConfig, HoverIdentifier, PaperFuzzyIdentifier,
@@ -147,22 +146,7 @@ pub extern "C" fn rotorid_export_size(kind: u32) -> usize {
 }
 
 fn premise_sets(s: &rotorid_flight_sets_t) -> rotorid::rule_base::PremiseSets<f32> {
-    let [c0, c1, c2] = s.centre;
-    let [s0, s1, s2] = s.spread;
-    table3::sets(&[
-        MembershipFunction::LeftShoulder {
-            centre: c0,
-            spread: s0,
-        },
-        MembershipFunction::Gaussian {
-            centre: c1,
-            spread: s1,
-        },
-        MembershipFunction::RightShoulder {
-            centre: c2,
-            spread: s2,
-        },
-    ])
+    table3::shoulder_sets(s.centre, s.spread)
 }
 
 /// The speed sets an init was given.
@@ -174,6 +158,9 @@ pub(crate) enum Sets<'a> {
     Shared(&'a rotorid_flight_sets_t),
     /// One list per model: velocity, q̂, r̂, p̂ (`rotorid_init_flight_per_model`).
     PerModel(&'a [rotorid_flight_sets_t; 4]),
+    /// One list per model and the speed it is on (`rotorid_init_flight_scheduled`; only
+    /// [`ScheduledFlight`] builds from it).
+    Scheduled(&'a [rotorid_flight_sets_t; 4], [Scheduling; 4]),
 }
 
 impl Sets<'_> {
@@ -248,10 +235,58 @@ impl Build for FlightIdentifier<f32> {
         let sets = match sets {
             Sets::Default => core::array::from_fn(|_| flight_sets()),
             Sets::Shared(s) => core::array::from_fn(|_| premise_sets(s)),
-            Sets::PerModel(each) => each.each_ref().map(premise_sets),
+            // `Scheduled` is `ScheduledFlight`'s: here only its sets count.
+            Sets::PerModel(each) | Sets::Scheduled(each, _) => each.each_ref().map(premise_sets),
         };
         FlightIdentifier::flight_per_model(config, sets)
     }
+}
+
+/// The flight kind's identifier as `rotorid_init_flight_scheduled` builds it
+/// (`FlightIdentifier::flight_scheduled`): a type of its own so that only that init links
+/// the constructor, and transparent, so that the storage holds a `FlightIdentifier` that
+/// every other call of the kind takes as it is.
+#[repr(transparent)]
+pub(crate) struct ScheduledFlight(FlightIdentifier<f32>);
+
+impl Build for ScheduledFlight {
+    fn build(config: HoverConfig<f32>, sets: Sets<'_>) -> Result<Self, rotorid::Error> {
+        // Only `Scheduled` comes here; the others are the speed everywhere. Not a call of
+        // `FlightIdentifier::build`: a second caller leaves that out of line, and the flight
+        // kind's init then copies the identifier through its stack (4 292 → 12 900 B).
+        let (sets, on) = match sets {
+            Sets::Scheduled(each, on) => (each.each_ref().map(premise_sets), on),
+            Sets::Default => (core::array::from_fn(|_| flight_sets()), Default::default()),
+            Sets::Shared(s) => (
+                core::array::from_fn(|_| premise_sets(s)),
+                Default::default(),
+            ),
+            Sets::PerModel(each) => (each.each_ref().map(premise_sets), Default::default()),
+        };
+        FlightIdentifier::flight_scheduled(config, sets, on).map(Self)
+    }
+}
+
+/// `rotorid_init_flight_scheduled`'s choice for a model: its three sets on the flight
+/// default's speed, the horizontal speed for the velocity model and the forward speed for
+/// the rate models (`rotorid::hover::Scheduling::Speed`).
+pub const ROTORID_SCHEDULE_SPEED: u32 = 0;
+/// `rotorid_init_flight_scheduled`'s choice for a rate model: its sets on the side speed
+/// (heading frame, m/s; `rotorid::hover::Scheduling::SideSpeed`).
+pub const ROTORID_SCHEDULE_SIDE_SPEED: u32 = 1;
+/// `rotorid_init_flight_scheduled`'s choice for a model: its sets on the vertical speed (up,
+/// m/s; `rotorid::hover::Scheduling::VerticalSpeed`).
+pub const ROTORID_SCHEDULE_VERTICAL_SPEED: u32 = 2;
+
+/// The core's scheduling of each `ROTORID_SCHEDULE_*` code; `None` when one is not a code.
+pub(crate) fn scheduling(codes: &[u32; 4]) -> Option<[Scheduling; 4]> {
+    let [v, q, r, p] = codes.map(|code| match code {
+        ROTORID_SCHEDULE_SPEED => Some(Scheduling::Speed),
+        ROTORID_SCHEDULE_SIDE_SPEED => Some(Scheduling::SideSpeed),
+        ROTORID_SCHEDULE_VERTICAL_SPEED => Some(Scheduling::VerticalSpeed),
+        _ => None,
+    });
+    Some([v?, q?, r?, p?])
 }
 
 #[cfg(test)]

@@ -561,6 +561,137 @@ fn init_per_model(
     (rc, h, err, storage)
 }
 
+/// `rotorid_init_flight_scheduled`: the speed four times is `rotorid_init_flight_per_model`
+/// bit for bit; other speeds build the core's `FlightIdentifier::flight_scheduled` (the
+/// record it writes, configuration hash included, is the core's byte for byte, and not the
+/// per-model identifier's); a code that is none, the velocity model on the side speed and
+/// NULLs are refused without writing the storage.
+#[test]
+fn scheduled_inits_build_the_cores_scheduled_flight_identifier() {
+    use rotorid::hover::{flight_sets, Scheduling};
+    use rotorid::{record, FlightIdentifier, HoverConfig};
+
+    use crate::record::{rotorid_record_info_t, rotorid_record_write};
+
+    let mut defaults = rotorid_flight_sets_t::default();
+    // SAFETY: a valid pointer.
+    assert_eq!(
+        unsafe { rotorid_flight_sets_default(&mut defaults) },
+        ROTORID_OK
+    );
+    let sets = [defaults; 4];
+    let (rc, h, _, _storage) = init_scheduled(sets.as_ptr(), [ROTORID_SCHEDULE_SPEED; 4].as_ptr());
+    assert_eq!(rc, ROTORID_OK);
+    let (rc, twin, _, _twin_storage) = init_per_model(sets.as_ptr());
+    assert_eq!(rc, ROTORID_OK);
+    for k in 0..200 {
+        let (mut a, mut b) = Default::default();
+        // SAFETY: valid pointers.
+        unsafe {
+            assert_eq!(rotorid_step(h, &sample(k), &mut a, null_mut()), ROTORID_OK);
+            assert_eq!(
+                rotorid_step(twin, &sample(k), &mut b, null_mut()),
+                ROTORID_OK
+            );
+        }
+        let bits = |o: &rotorid_step_output_t| {
+            let p = o.prediction;
+            [p.velocity, p.rates].map(|v| v.map(f32::to_bits))
+        };
+        assert_eq!(bits(&a), bits(&b), "sample {k}");
+    }
+
+    let codes = [
+        ROTORID_SCHEDULE_VERTICAL_SPEED,
+        ROTORID_SCHEDULE_SIDE_SPEED,
+        ROTORID_SCHEDULE_SPEED,
+        ROTORID_SCHEDULE_VERTICAL_SPEED,
+    ];
+    let (rc, h, _, _storage) = init_scheduled(sets.as_ptr(), codes.as_ptr());
+    assert_eq!(rc, ROTORID_OK);
+    let mut from_c = vec![0u8; 8192];
+    let mut info = rotorid_record_info_t::default();
+    // SAFETY: a handle from an init; both slots erased (NULL); a buffer of its length.
+    let rc = unsafe {
+        rotorid_record_write(
+            h,
+            null(),
+            0,
+            null(),
+            0,
+            from_c.as_mut_ptr(),
+            from_c.len(),
+            &mut info,
+            null_mut(),
+        )
+    };
+    assert_eq!(rc, ROTORID_OK);
+    from_c.truncate(info.length);
+    let core_record = |id: FlightIdentifier<f32>| {
+        let mut out = vec![0u8; 8192];
+        let n = record::encode(&id, ROTORID_KIND_FLIGHT, info.sequence, &mut out).unwrap();
+        out.truncate(n);
+        out
+    };
+    let config = HoverConfig::default();
+    let on = [
+        Scheduling::VerticalSpeed,
+        Scheduling::SideSpeed,
+        Scheduling::Speed,
+        Scheduling::VerticalSpeed,
+    ];
+    let scheduled =
+        FlightIdentifier::flight_scheduled(config, core::array::from_fn(|_| flight_sets()), on)
+            .unwrap();
+    assert_eq!(from_c, core_record(scheduled));
+    let per_model =
+        FlightIdentifier::flight_per_model(config, core::array::from_fn(|_| flight_sets()))
+            .unwrap();
+    assert_ne!(from_c, core_record(per_model));
+
+    let mut velocity_sideways = codes;
+    velocity_sideways[0] = ROTORID_SCHEDULE_SIDE_SPEED;
+    let mut unknown = codes;
+    unknown[3] = 3;
+    for (sets, codes, code) in [
+        (null(), codes.as_ptr(), ROTORID_E_NULL),
+        (sets.as_ptr(), null(), ROTORID_E_NULL),
+        (sets.as_ptr(), unknown.as_ptr(), ROTORID_E_ARGUMENT),
+        (
+            sets.as_ptr(),
+            velocity_sideways.as_ptr(),
+            ROTORID_E_CONFIG_DIMENSIONS,
+        ),
+    ] {
+        let (rc, h, err, storage) = init_scheduled(sets, codes);
+        assert_eq!((rc, err.code), (code, code));
+        assert!(h.is_null() && storage.iter().all(|&w| w == 0));
+    }
+}
+
+/// `rotorid_init_flight_scheduled` with `sets` and `schedules` (NULL or four each) in zeroed
+/// storage of its own: the code, the handle, the error and the storage.
+fn init_scheduled(
+    sets: *const rotorid_flight_sets_t,
+    schedules: *const u32,
+) -> (i32, *mut rotorid_ident_t, rotorid_error_t, Vec<u64>) {
+    let mut storage = vec![0u64; ROTORID_FLIGHT_STORAGE_SIZE / 8];
+    let (mut h, mut err) = (null_mut(), rotorid_error_t::default());
+    // SAFETY: aligned storage of the flight kind's size; valid pointers; NULL or four each.
+    let rc = unsafe {
+        rotorid_init_flight_scheduled(
+            storage.as_mut_ptr().cast(),
+            ROTORID_FLIGHT_STORAGE_SIZE,
+            null(),
+            sets,
+            schedules,
+            &mut h,
+            &mut err,
+        )
+    };
+    (rc, h, err, storage)
+}
+
 /// The worked example of `docs/c-interface.md` ("The export format"): the export of a
 /// `ROTORID_KIND_PAPER_PLAIN` identifier after 20 samples, as a hex dump with the fields
 /// named. The section between its markers must be what this test prints; regenerate it with

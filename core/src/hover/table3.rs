@@ -40,6 +40,29 @@ pub fn three_sets<T: Real>(
     ])
 }
 
+/// Left shoulder, Gaussian and right shoulder from their centres and spreads, in that order
+/// (the premise variable's unit): the three sets of a flight model's speed, as the C
+/// interface and the link carry them. Unchecked: [`RuleBase::new`] checks them.
+#[inline(always)]
+pub fn shoulder_sets<T: Real>(centre: [T; 3], spread: [T; 3]) -> PremiseSets<T> {
+    let [c0, c1, c2] = centre;
+    let [s0, s1, s2] = spread;
+    sets(&[
+        LeftShoulder {
+            centre: c0,
+            spread: s0,
+        },
+        Gaussian {
+            centre: c1,
+            spread: s1,
+        },
+        RightShoulder {
+            centre: c2,
+            spread: s2,
+        },
+    ])
+}
+
 /// Copies up to [`MAX_SETS`](crate::rule_base::MAX_SETS) sets (extra ones are ignored; the rule
 /// count check of [`RuleBase::new`] then reports the mismatch).
 pub fn sets<T: Real>(list: &[MembershipFunction<T>]) -> PremiseSets<T> {

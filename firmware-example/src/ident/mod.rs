@@ -40,7 +40,7 @@ use rotorid::{
 };
 use rotorid_link::msg::{
     self, IdOutput, Ident, IdentPair, ImportProgress, MsgType, NackReason, ParamField, ParamsChunk,
-    Payload, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
+    Payload, PremisesMsg, RlsForm, SampleMode, SampleMsg, SweepSample, SweepStart,
 };
 use rotorid_link::{SampleChain, Writer};
 
@@ -284,6 +284,22 @@ impl Identification {
             }
             _ => compensate_both(&mut self.fuzzy, &mut self.plain, gyro_noise, how),
         }
+    }
+
+    /// `Premises`: the flight pair's `FlightIdentifier` rebuilt on `m`'s sets and speeds
+    /// (`FlightIdentifier::flight_scheduled`, θ = 0, P = αI in the current form), kept across
+    /// `Reset` until the next `Premises`. When the flight pair answers, its fuzzy prediction
+    /// chain restarts and an import in progress is dropped. On `Err` (the core refused the
+    /// sets or a speed) nothing changed.
+    pub fn premises(&mut self, m: &PremisesMsg) -> Result<(), Error> {
+        let built =
+            FlightIdentifier::flight_scheduled(config(self.form), m.sets(), m.scheduling())?;
+        self.flight = Ok(built);
+        if self.pair == IdentPair::Flight {
+            self.fuzzy_chain = SampleChain::new();
+            self.import = None;
+        }
+        Ok(())
     }
 
     /// The pair answering `Sample`.

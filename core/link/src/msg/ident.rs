@@ -3,7 +3,8 @@
 
 use crate::payload::{Field, PayloadError, Reader, Writer};
 use rotorid::error::Error;
-use rotorid::hover::{Attitude, Controls, GyroCompensation, HoverSample};
+use rotorid::hover::{table3, Attitude, Controls, GyroCompensation, HoverSample, Scheduling};
+use rotorid::rule_base::PremiseSets;
 
 wire_enum! {
     /// What the firmware does with a [`SampleMsg`] (its byte 0).
@@ -269,6 +270,75 @@ fixed_payload! {
     }
 }
 
+wire_enum! {
+    /// The speed a flight model's three rules are on (`Premises`): the core's
+    /// [`Scheduling`], one byte, the C interface's `ROTORID_SCHEDULE_*` codes.
+    #[non_exhaustive]
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub enum Schedule {
+        /// [`Scheduling::Speed`]: the flight default's (horizontal speed for the velocity
+        /// model, forward speed for the rate models).
+        #[default]
+        Speed = 0,
+        /// [`Scheduling::SideSpeed`]: the side speed (rate models only).
+        SideSpeed = 1,
+        /// [`Scheduling::VerticalSpeed`]: the vertical speed.
+        VerticalSpeed = 2,
+    }
+}
+
+impl From<Schedule> for Scheduling {
+    fn from(s: Schedule) -> Self {
+        match s {
+            Schedule::Speed => Self::Speed,
+            Schedule::SideSpeed => Self::SideSpeed,
+            Schedule::VerticalSpeed => Self::VerticalSpeed,
+        }
+    }
+}
+
+fixed_payload! {
+    /// `Premises` payload (100 B): for each model of the flight default (velocity, q̂, r̂,
+    /// p̂) the [`Schedule`] its rules are on, then its three speed sets (left shoulder,
+    /// Gaussian, right shoulder; m/s): the centres of the four models (4 × 3 f32), then their
+    /// spreads (4 × 3 f32). What `rotorid identify`'s `flight selected` chose, as the C
+    /// interface's `rotorid_init_flight_scheduled` takes it (a model with one rule has
+    /// `rotorid::hover::unscheduled_sets`). The firmware rebuilds the flight pair's
+    /// `FlightIdentifier` so (`FlightIdentifier::flight_scheduled`, θ = 0, P = αI) and keeps
+    /// these premises across `Reset` until the next `Premises`; an `ImportChunk` stream then
+    /// brings the learnt parameters. Answered by `Ack`, or `Nack` (refused, nothing changed)
+    /// for sets or a schedule the core refuses; an unknown code is a bad payload.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct PremisesMsg for [Premises] {
+        /// The speed each model's rules are on.
+        pub on: [Schedule; 4],
+        /// Centres c of each model's three sets, model-major (m/s).
+        pub centre: [f32; 12],
+        /// Spreads σ of the same sets (m/s, > 0).
+        pub spread: [f32; 12],
+    }
+}
+
+impl PremisesMsg {
+    /// Each model's three sets as the core takes them (a left shoulder, a Gaussian and a
+    /// right shoulder), unchecked: [`rotorid::FlightIdentifier::flight_scheduled`] checks them.
+    pub fn sets(&self) -> [PremiseSets<f32>; 4] {
+        let three = |of: &[f32; 12], m: usize| -> [f32; 3] {
+            core::array::from_fn(|i| of.get(3 * m + i).copied().unwrap_or(0.0))
+        };
+        core::array::from_fn(|m| {
+            table3::shoulder_sets(three(&self.centre, m), three(&self.spread, m))
+        })
+    }
+
+    /// The core's scheduling of each model.
+    pub fn scheduling(&self) -> [Scheduling; 4] {
+        self.on.map(Into::into)
+    }
+}
+
 /// `ParamsRequest` payload.
 pub type ParamsRequest = IdentRequest;
 /// `ExportRequest` payload.
@@ -280,6 +350,7 @@ mod tests {
     use super::super::message::Payload;
     use super::*;
     use rotorid::error::Quantity;
+    use rotorid::membership::MembershipFunction;
 
     fn sample() -> HoverSample<f32> {
         HoverSample {
@@ -375,6 +446,50 @@ mod tests {
         let mut bad = b;
         bad[9 + IdOutput::LEN + super::super::errors::ERROR_LEN + 1 + 24] = 1;
         assert!(Estimate::read(&bad).is_err());
+    }
+
+    #[test]
+    fn premises_roundtrip_and_give_the_cores_sets() {
+        let m = PremisesMsg {
+            on: [
+                Schedule::VerticalSpeed,
+                Schedule::SideSpeed,
+                Schedule::Speed,
+                Schedule::VerticalSpeed,
+            ],
+            centre: core::array::from_fn(|k| k as f32 - 0.5),
+            spread: core::array::from_fn(|k| 1.0 + k as f32),
+        };
+        let b = roundtrip(&m);
+        assert_eq!(b.len(), PremisesMsg::LEN);
+        assert_eq!(PremisesMsg::LEN, 100);
+        assert_eq!(PremisesMsg::read(&b), Ok(m));
+        rejects_truncated_and_extended::<PremisesMsg>(&b);
+        // A schedule code this build does not know is a bad payload.
+        let mut bad = b.clone();
+        bad[3] = 3;
+        assert_eq!(PremisesMsg::read(&bad), Err(PayloadError::InvalidValue));
+        let sets = m.sets();
+        assert_eq!(
+            sets[2][1],
+            MembershipFunction::Gaussian {
+                centre: 6.5,
+                spread: 8.0
+            }
+        );
+        assert!(matches!(
+            sets[3][2],
+            MembershipFunction::RightShoulder { .. }
+        ));
+        assert_eq!(
+            m.scheduling(),
+            [
+                Scheduling::VerticalSpeed,
+                Scheduling::SideSpeed,
+                Scheduling::Speed,
+                Scheduling::VerticalSpeed
+            ]
+        );
     }
 
     #[test]

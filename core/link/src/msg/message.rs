@@ -62,6 +62,10 @@ wire_enum! {
         /// Host→FW: [`CompensateEachMsg`](super::ident::CompensateEachMsg), `Compensate` with a
         /// choice per rate (damping or full); answered by [`MsgType::Ack`].
         CompensateEach = 0x1D,
+        /// Host→FW: [`PremisesMsg`](super::ident::PremisesMsg), the flight default's speed sets
+        /// per model and the speed each is on (what `flight selected` chose); answered by
+        /// [`MsgType::Ack`].
+        Premises = 0x1E,
     }
 }
 

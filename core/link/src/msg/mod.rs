@@ -129,7 +129,8 @@ pub use message::{MsgType, Payload};
 pub use errors::{read_error, write_error, ERROR_LEN, UNKNOWN_CODE};
 pub use ident::{
     CompensateEachMsg, CompensateMsg, Estimate, ExportRequest, IdOutput, Ident, IdentPair,
-    IdentRequest, ParamsRequest, RateCompensation, ResetMsg, RlsForm, SampleMode, SampleMsg,
+    IdentRequest, ParamsRequest, PremisesMsg, RateCompensation, ResetMsg, RlsForm, SampleMode,
+    SampleMsg, Schedule,
 };
 pub use link::{Ack, Hello, Nack, NackReason, StatsReport};
 pub use params::{read_rls_state, summary_words, ParamField, ParamsChunk};
@@ -178,6 +179,7 @@ mod tests {
             ResetMsg::TYPES,
             CompensateMsg::TYPES,
             CompensateEachMsg::TYPES,
+            PremisesMsg::TYPES,
             IdentRequest::TYPES,
             ParamsChunk::TYPES,
             DataChunk::TYPES,
