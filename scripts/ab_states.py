@@ -4,8 +4,8 @@ over the seed pairs of one variant's free run ÷ extended plain's on each of the
 (ab_report.py shows the rates and the worst state only), base (`hover-base/`,
 `envelope-base/`) → this tree (`hover/`, `envelope/`), and per regime the median over the
 plants of each plant's median. First, per airframe family and regime, how many of this tree's
-pairs have a model's rules on another speed (the verdict's `terms_off`, `rotorid identify
---premise-candidates`).
+pairs have a model's rules on another speed (the verdict's `terms_off`; `flight selected`'s
+premise candidates, `rotorid identify`'s default).
 
 Usage: ab_states.py WORK VARIANT (WORK: ab.sh's SEEDS_WORK)
 """
