@@ -251,19 +251,14 @@ pub(crate) struct ScheduledFlight(FlightIdentifier<f32>);
 
 impl Build for ScheduledFlight {
     fn build(config: HoverConfig<f32>, sets: Sets<'_>) -> Result<Self, rotorid::Error> {
-        // Only `Scheduled` comes here; the others are the speed everywhere. Not a call of
-        // `FlightIdentifier::build`: a second caller leaves that out of line, and the flight
-        // kind's init then copies the identifier through its stack (4 292 → 12 900 B).
-        let (sets, on) = match sets {
-            Sets::Scheduled(each, on) => (each.each_ref().map(premise_sets), on),
-            Sets::Default => (core::array::from_fn(|_| flight_sets()), Default::default()),
-            Sets::Shared(s) => (
-                core::array::from_fn(|_| premise_sets(s)),
-                Default::default(),
-            ),
-            Sets::PerModel(each) => (each.each_ref().map(premise_sets), Default::default()),
+        // Only `rotorid_init_flight_scheduled` builds this type, always with `Scheduled`. Not
+        // a call of `FlightIdentifier::build` for the other forms: a second caller leaves
+        // that out of line, and the flight kind's init then copies the identifier through
+        // its stack (4 292 → 12 900 B).
+        let Sets::Scheduled(each, on) = sets else {
+            return Err(rotorid::ConfigError::Dimensions.into());
         };
-        FlightIdentifier::flight_scheduled(config, sets, on).map(Self)
+        FlightIdentifier::flight_scheduled(config, each.each_ref().map(premise_sets), on).map(Self)
     }
 }
 
