@@ -45,7 +45,8 @@ pub struct IdentifyOptions {
     #[arg(long)]
     pub verify: Option<PathBuf>,
     /// Fraction of the data held out for verification when --verify is not given (the
-    /// later part: a whole segment of about that size, else the end of the longest).
+    /// later part: a whole segment of about that size, else the end of the longest; another
+    /// part where that would take most of a stick's excitation, which the split then says).
     #[arg(long, default_value_t = 0.3)]
     pub holdout: f64,
     /// Identification rate (Hz): `auto` takes the fastest of 50, 25, 20, 10, 5 Hz that

@@ -6,8 +6,104 @@
 //! it was learnt sees later data): with several segments, the whole segment whose length is
 //! closest to the wanted fraction (the later one of equals); with one, or when no segment is
 //! small enough, the last part of the longest segment.
+//!
+//! Unless that takes a stick's excitation with it. An identification log often moves one
+//! stick after another (a sweep or doublets per axis, as the simulator's identification flight
+//! and ArduPilot's SystemID mode do), and its last part is then the last stick's whole
+//! excitation: trained without it, that axis's control power is not determined, and the
+//! verdict would blame the flight for a stick it did move. So every stick the log moves
+//! (standard deviation over all the usable data at least [`MIN_STICK_STD`]) must keep at least
+//! [`KEEP_EXCITATION`] of its standard deviation in the training data. When the usual choice
+//! does not, the held-out part is the one that keeps the most of the least-kept stick: another
+//! whole segment, or a stretch of the same length at one of [`OFFSETS`] evenly spaced places
+//! in the longest segment (the training data are then the parts before and after it); the
+//! later of equals. The split's sentence says which stick moved it.
 
 use rotorid_sim::plant::SensorSample;
+
+use crate::verdict::MIN_STICK_STD;
+
+/// Fraction of a moved stick's standard deviation (over all the usable data) that the training
+/// data must keep (see the [module docs](self)): half the deviation, a quarter of the variance,
+/// leaves the control's effect well above the noise whenever the whole log determines it.
+pub const KEEP_EXCITATION: f64 = 0.5;
+
+/// Places tried in the longest segment for a held-out stretch when the usual choice takes a
+/// stick's excitation (see the [module docs](self)): every 5 % of the segment.
+pub const OFFSETS: usize = 20;
+
+const STICK_NAMES: [&str; 4] = [
+    "collective",
+    "pedal",
+    "longitudinal cyclic",
+    "lateral cyclic",
+];
+
+/// Sums of each stick `[col ped lon lat]` and of its square over some samples, and their
+/// count: what the standard deviation of any union or difference of stretches needs.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct StickSums {
+    n: f64,
+    sum: [f64; 4],
+    sum_sq: [f64; 4],
+}
+
+impl StickSums {
+    fn of(samples: &[SensorSample]) -> Self {
+        let mut out = Self::default();
+        for s in samples {
+            let x = [s.sticks.col, s.sticks.ped, s.sticks.lon, s.sticks.lat];
+            out.n += 1.0;
+            for ((sum, sum_sq), x) in out.sum.iter_mut().zip(&mut out.sum_sq).zip(x) {
+                *sum += x;
+                *sum_sq += x * x;
+            }
+        }
+        out
+    }
+
+    /// The sums of both (`sign` 1) or of `self` without `other` (`sign` −1).
+    fn combined(&self, other: &Self, sign: f64) -> Self {
+        Self {
+            n: self.n + sign * other.n,
+            sum: core::array::from_fn(|k| self.sum[k] + sign * other.sum[k]),
+            sum_sq: core::array::from_fn(|k| self.sum_sq[k] + sign * other.sum_sq[k]),
+        }
+    }
+
+    fn minus(&self, other: &Self) -> Self {
+        self.combined(other, -1.0)
+    }
+
+    /// Standard deviation of each stick (population; 0 with fewer than two samples or a
+    /// non-finite stick).
+    fn std(&self) -> [f64; 4] {
+        core::array::from_fn(|k| {
+            if self.n < 2.0 {
+                return 0.0;
+            }
+            let mean = self.sum[k] / self.n;
+            let var = self.sum_sq[k] / self.n - mean * mean;
+            if var.is_finite() && var > 0.0 {
+                var.sqrt()
+            } else {
+                0.0
+            }
+        })
+    }
+}
+
+/// How much of the moved sticks' excitation a hold-out leaves the training data: the least
+/// kept fraction of a moved stick's standard deviation and that stick (`(1, None)` when the
+/// log moves no stick).
+fn kept(all: &StickSums, held: &StickSums) -> (f64, Option<usize>) {
+    let whole = all.std();
+    let training = all.minus(held).std();
+    (0..4)
+        .filter(|&k| whole[k] >= MIN_STICK_STD)
+        .map(|k| (training[k] / whole[k], Some(k)))
+        .fold((1.0, None), |best, c| if c.0 < best.0 { c } else { best })
+}
 
 /// A segment of a log, with where it came from.
 #[derive(Debug, Clone)]
@@ -57,9 +153,33 @@ fn span(s: &[SensorSample]) -> (f64, f64) {
     )
 }
 
+/// A held-out part: a whole segment, or `len` samples of a segment from `start` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Held {
+    Whole(usize),
+    Stretch {
+        segment: usize,
+        start: usize,
+        len: usize,
+    },
+}
+
+impl Held {
+    fn samples<'a>(&self, segments: &'a [Labelled]) -> &'a [SensorSample] {
+        match *self {
+            Held::Whole(k) => &segments[k].samples,
+            Held::Stretch {
+                segment,
+                start,
+                len,
+            } => &segments[segment].samples[start..start + len],
+        }
+    }
+}
+
 /// Splits `segments` (every usable segment of every log, in order) holding out about
 /// `fraction` of the samples for verification; each part has at least `min` samples
-/// ([`crate::import::min_useful_samples`]).
+/// ([`crate::import::min_useful_samples`]). See the [module docs](self) for which part.
 pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split, SplitError> {
     if !(fraction > 0.0 && fraction < 1.0) {
         return Err(SplitError::Fraction(fraction));
@@ -71,72 +191,146 @@ pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split
         fraction: fraction * 100.0,
         min,
     };
-    // A whole segment, when one is about the wanted size and leaves enough to train on.
-    let whole = segments
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| {
-            let n = s.samples.len();
+    // Whole segments about the wanted size that leave enough to train on, the closest to it
+    // first (the later of equals).
+    let mut wholes: Vec<usize> = (0..segments.len())
+        .filter(|&i| {
+            let n = segments[i].samples.len();
             n >= min && total - n >= min && (n as f64) <= 2.0 * target && (n as f64) >= 0.5 * target
         })
-        .min_by(|(i, a), (j, b)| {
-            let da = (a.samples.len() as f64 - target).abs();
-            let db = (b.samples.len() as f64 - target).abs();
-            da.total_cmp(&db).then(j.cmp(i))
-        })
-        .map(|(i, _)| i);
-    if let Some(k) = whole {
-        let mut segments = segments;
-        let held = segments.remove(k);
-        let (a, b) = span(&held.samples);
-        let n = held.samples.len();
-        return Ok(Split {
-            how: format!(
-                "held out for verification: segment {} of {} ({a:.2}–{b:.2} s, {n} samples, {:.0} % of the data); trained on the other {} segment(s)",
-                held.segment,
-                held.file,
-                100.0 * n as f64 / total as f64,
-                segments.len()
-            ),
-            training: segments.into_iter().map(|s| s.samples).collect(),
-            verification: held.samples,
-        });
-    }
-    // Else the last part of the longest segment.
-    let Some(k) = segments
-        .iter()
-        .enumerate()
-        .rev()
-        .max_by_key(|(_, s)| s.samples.len())
-        .map(|(i, _)| i)
-    else {
-        return Err(too_short);
+        .collect();
+    let distance = |i: usize| (segments[i].samples.len() as f64 - target).abs();
+    wholes.sort_by(|&i, &j| distance(i).total_cmp(&distance(j)).then(j.cmp(&i)));
+    // Else stretches of the longest segment (the later of equals), the last part first.
+    let stretches = || -> Option<Vec<Held>> {
+        let k = segments
+            .iter()
+            .enumerate()
+            .rev()
+            .max_by_key(|(_, s)| s.samples.len())
+            .map(|(i, _)| i)?;
+        let n = segments[k].samples.len();
+        let len = ((n as f64) * fraction.min(target / n as f64)).round() as usize;
+        let len = len.max(min);
+        if len >= n || n - len < min {
+            return None;
+        }
+        let last = n - len;
+        let mut starts: Vec<usize> = (0..=OFFSETS).rev().map(|j| j * last / OFFSETS).collect();
+        starts.dedup();
+        Some(
+            starts
+                .into_iter()
+                .map(|start| Held::Stretch {
+                    segment: k,
+                    start,
+                    len,
+                })
+                .collect(),
+        )
     };
-    let mut segments = segments;
-    let longest = &segments[k];
-    let n = longest.samples.len();
-    let held_n = ((n as f64) * fraction.min(target / n as f64)).round() as usize;
-    let held_n = held_n.max(min);
-    if held_n >= n || n - held_n < min {
-        return Err(too_short);
+    let candidates: Vec<Held> = match wholes.first() {
+        Some(_) => wholes.iter().map(|&k| Held::Whole(k)).collect(),
+        None => stretches().ok_or(too_short)?,
+    };
+    // The usual choice, unless it takes a moved stick's excitation (module docs).
+    let all = segments.iter().fold(StickSums::default(), |acc, s| {
+        acc.combined(&StickSums::of(&s.samples), 1.0)
+    });
+    let score = |h: &Held| kept(&all, &StickSums::of(h.samples(&segments)));
+    let usual = candidates[0];
+    let (usual_kept, stick) = score(&usual);
+    let mut chosen = (usual, usual_kept);
+    if usual_kept < KEEP_EXCITATION {
+        let others = candidates
+            .iter()
+            .skip(1)
+            .copied()
+            .chain(if wholes.is_empty() {
+                Vec::new()
+            } else {
+                stretches().unwrap_or_default()
+            });
+        for h in others {
+            let (k, _) = score(&h);
+            if k > chosen.1 {
+                chosen = (h, k);
+            }
+        }
     }
-    let held = segments[k].samples.split_off(n - held_n);
-    let (a, b) = span(&held);
-    let how = format!(
-        "held out for verification: the last {held_n} samples of segment {} of {} ({a:.2}–{b:.2} s, {:.0} % of the data); trained on the rest",
-        segments[k].segment,
-        segments[k].file,
-        100.0 * held_n as f64 / total as f64
-    );
-    Ok(Split {
-        training: segments
-            .into_iter()
-            .map(|s| s.samples)
-            .filter(|s| s.len() > 1)
-            .collect(),
-        verification: held,
-        how,
-    })
+    let moved = (chosen.0 != usual).then(|| {
+        let name = stick.map_or("a stick", |k| STICK_NAMES[k]);
+        let instead = match usual {
+            Held::Whole(k) => format!("segment {} of {}", segments[k].segment, segments[k].file),
+            Held::Stretch { .. } => "the last part".to_string(),
+        };
+        format!(
+            ", not {instead}: that held most of the {name}'s excitation (the training data would have kept {:.0} % of its standard deviation; here every stick the log moves keeps at least {:.0} % of its own)",
+            100.0 * usual_kept,
+            100.0 * chosen.1
+        )
+    });
+    let moved = moved.unwrap_or_default();
+    let mut segments = segments;
+    match chosen.0 {
+        Held::Whole(k) => {
+            let held = segments.remove(k);
+            let (a, b) = span(&held.samples);
+            let n = held.samples.len();
+            Ok(Split {
+                how: format!(
+                    "held out for verification: segment {} of {} ({a:.2}–{b:.2} s, {n} samples, {:.0} % of the data){moved}; trained on the other {} segment(s)",
+                    held.segment,
+                    held.file,
+                    100.0 * n as f64 / total as f64,
+                    segments.len()
+                ),
+                training: segments.into_iter().map(|s| s.samples).collect(),
+                verification: held.samples,
+            })
+        }
+        Held::Stretch {
+            segment: k,
+            start,
+            len,
+        } => {
+            let whole = std::mem::take(&mut segments[k].samples);
+            let n = whole.len();
+            let (before, rest) = whole.split_at(start);
+            let (held, after) = rest.split_at(len);
+            let (a, b) = span(held);
+            let which = if start + len == n {
+                format!("the last {len} samples")
+            } else {
+                format!("{len} samples")
+            };
+            let how = format!(
+                "held out for verification: {which} of segment {} of {} ({a:.2}–{b:.2} s, {:.0} % of the data){moved}; trained on the rest",
+                segments[k].segment,
+                segments[k].file,
+                100.0 * len as f64 / total as f64
+            );
+            let mut parts = [before.to_vec(), after.to_vec()].into_iter();
+            let held = held.to_vec();
+            // The parts before and after the held-out stretch take its segment's place.
+            let training: Vec<Vec<SensorSample>> = segments
+                .into_iter()
+                .enumerate()
+                .flat_map(|(i, s)| {
+                    if i == k {
+                        parts.by_ref().collect()
+                    } else {
+                        vec![s.samples]
+                    }
+                })
+                .collect();
+            Ok(Split {
+                training: training.into_iter().filter(|s| s.len() > 1).collect(),
+                verification: held,
+                how,
+            })
+        }
+    }
 }
 
 #[cfg(test)]
@@ -183,6 +377,73 @@ mod tests {
         assert_eq!(s.verification.len(), 300);
         assert_eq!(s.training.len(), 2);
         assert!(s.how.contains("segment 1 of b.ulg"), "{}", s.how);
+    }
+
+    /// `seg` with stick `k` swept (amplitude 0.2) over samples `from..to`.
+    fn swept(mut l: Labelled, k: usize, from: usize, to: usize) -> Labelled {
+        for (i, s) in l.samples.iter_mut().enumerate().take(to).skip(from) {
+            let x = 0.2 * (i as f64 * 0.3).sin();
+            match k {
+                0 => s.sticks.col = x,
+                1 => s.sticks.ped = x,
+                2 => s.sticks.lon = x,
+                _ => s.sticks.lat = x,
+            }
+        }
+        l
+    }
+
+    /// The least kept fraction of a moved stick's standard deviation in `split`'s training.
+    fn least_kept(split: &Split) -> f64 {
+        let mut all: Vec<SensorSample> = split.training.concat();
+        let training = StickSums::of(&all);
+        all.extend_from_slice(&split.verification);
+        let whole = StickSums::of(&all);
+        kept(&whole, &whole.minus(&training)).0
+    }
+
+    #[test]
+    fn a_stick_moved_only_in_the_last_part_stays_in_the_training_data() {
+        // Longitudinal cyclic, then lateral, then pedal, then collective, one after another:
+        // the last 30 % is most of the collective's sweep.
+        let mut l = seg("a.csv", 1, 1000, 0.0);
+        for (k, from) in [(2, 0), (3, 250), (1, 500), (0, 750)] {
+            l = swept(l, k, from, from + 250);
+        }
+        let usual = split(vec![l.clone()], 0.3, 100).unwrap();
+        assert_eq!(usual.verification.len(), 300);
+        assert!(usual.how.contains("not the last part"), "{}", usual.how);
+        assert!(usual.how.contains("collective"), "{}", usual.how);
+        assert!(least_kept(&usual) >= KEEP_EXCITATION, "{}", usual.how);
+        // The parts before and after it, in time order, and nothing lost or doubled.
+        assert_eq!(usual.training.len(), 2);
+        let held = (usual.verification[0].t, usual.verification[299].t);
+        assert!(usual.training[0].last().unwrap().t < held.0);
+        assert!(usual.training[1][0].t > held.1);
+        assert_eq!(usual.training.iter().map(Vec::len).sum::<usize>(), 700);
+    }
+
+    #[test]
+    fn sticks_moved_throughout_keep_the_end_held_out() {
+        let mut l = seg("a.csv", 1, 1000, 0.0);
+        for k in 0..4 {
+            l = swept(l, k, 0, 1000);
+        }
+        let s = split(vec![l], 0.3, 100).unwrap();
+        assert!(s.how.contains("the last 300 samples"), "{}", s.how);
+        assert!(!s.how.contains("not the"), "{}", s.how);
+    }
+
+    #[test]
+    fn a_segment_holding_a_sticks_only_excitation_is_not_held_out_whole() {
+        // Segment 2 is about the wanted size, but the only one where the collective moves.
+        let a = swept(seg("a.ulg", 1, 700, 0.0), 2, 0, 700);
+        let b = swept(seg("a.ulg", 2, 300, 20.0), 0, 0, 300);
+        let s = split(vec![a, b], 0.3, 100).unwrap();
+        assert!(s.how.contains("not segment 2 of a.ulg"), "{}", s.how);
+        assert!(s.how.contains("of segment 1 of a.ulg"), "{}", s.how);
+        assert!(least_kept(&s) >= KEEP_EXCITATION, "{}", s.how);
+        assert!(s.verification.iter().all(|x| x.t < 20.0));
     }
 
     #[test]

@@ -389,7 +389,8 @@ def identify(
     """Identifies hover models from logs, as ``rotorid identify --train TRAIN... [--verify
     VERIFY] [--holdout H] [--out OUT]`` with its defaults: every variant trained, scored
     one step ahead and in ``window``-second free runs (s) on ``verify`` (its longest
-    segment) or on the later ``holdout`` fraction of the training data; the verdict says
+    segment) or on the later ``holdout`` fraction of the training data (another part where
+    that would take most of a stick's excitation; ``result.report`` says which); the verdict says
     which model to fly. The GIL is released meanwhile.
 
     With ``out`` writes metrics.json, params-*.json and (``plots``) the figures there.
