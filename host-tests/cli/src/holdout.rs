@@ -14,10 +14,14 @@
 //! verdict would blame the flight for a stick it did move. So every stick the log moves
 //! (standard deviation over all the usable data at least [`MIN_STICK_STD`]) must keep at least
 //! [`KEEP_EXCITATION`] of its standard deviation in the training data. When the usual choice
-//! does not, the held-out part is the one that keeps the most of the least-kept stick: another
-//! whole segment, or a stretch of the same length at one of [`OFFSETS`] evenly spaced places
-//! in the longest segment (the training data are then the parts before and after it); the
-//! later of equals. The split's sentence says which stick moved it.
+//! does not, the held-out part is the first in the usual order that does: another whole
+//! segment (the closest to the wanted size first), else a stretch of the same length at one of
+//! [`OFFSETS`] evenly spaced places in the longest segment, the latest first (the training data
+//! are then the parts before and after it). So the held-out part stays as late as it can,
+//! and keeps what excitation the training data can spare: a search for the stretch that
+//! keeps the most would pick the quietest, where holding the measured state is hard to beat
+//! and the scores say little. When none keeps enough, the one that keeps the most. The
+//! split's sentence says which stick moved it.
 
 use rotorid_sim::plant::SensorSample;
 
@@ -251,10 +255,15 @@ pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split
             } else {
                 stretches().unwrap_or_default()
             });
+        // The first that keeps enough (the closest to the usual choice: the held-out part
+        // stays as late, and as excited, as it can), else the one that keeps the most.
         for h in others {
             let (k, _) = score(&h);
             if k > chosen.1 {
                 chosen = (h, k);
+                if k >= KEEP_EXCITATION {
+                    break;
+                }
             }
         }
     }
