@@ -944,7 +944,7 @@ fn plant_variation_flies_another_helicopter_reproducibly() {
 
 /// The premise candidates (on by default): on the flybarless helicopter's hover identification
 /// flight (seed 2, a pair of docs/ab-premises.md) `flight selected` moves its translational
-/// model to the vertical speed, which the verdict names and `params-flight selected.json`
+/// model to the vertical speed, which the verdict names and `params-flight-selected.json`
 /// carries (the sets on the premise's second variable, `[|v_h| up 0]`); with
 /// `--no-premise-candidates` every model stays on the flight default's speed, and the other
 /// variants are the same bits either way.
