@@ -1105,7 +1105,7 @@ int32_t rotorid_init_flight_per_model(void *storage,
  * names for it: four `ROTORID_SCHEDULE_*` codes in the same order (velocity, q̂, r̂, p̂),
  * `rotorid::FlightIdentifier::flight_scheduled`. What `rotorid identify`'s `flight selected`
  * flies when it moves a model's rules to another speed (`r: rules on the side speed` in its
- * verdict; in `params-flight selected.json` the premise variable that carries a model's sets
+ * verdict; in `params-flight-selected.json` the premise variable that carries a model's sets
  * names its speed, see `docs/c-interface.md`). With `ROTORID_SCHEDULE_SPEED` four times it
  * is `rotorid_init_flight_per_model`, bit for bit; a firmware that never calls it links
  * none of its choice.
