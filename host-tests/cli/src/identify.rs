@@ -563,8 +563,13 @@ pub fn identify_with(
             ));
         }
     }
-    let mut verdict =
-        crate::verdict::verdict(&results, &split.training, rate_hz, args.free_run_velocity);
+    let mut verdict = crate::verdict::verdict(
+        &results,
+        &split.training,
+        &split.verification,
+        rate_hz,
+        args.free_run_velocity,
+    );
     if let (Some(v), Some(d)) = (&mut verdict, &control_delay) {
         if d.delay_s > 0.0 {
             v.caveats.push(format!(

@@ -77,6 +77,96 @@ const RULE_SPREAD_MPS: f64 = 2.5;
 /// so that a 10 Hz log is held to the same two seconds of flight as a 50 Hz one.
 const MIN_RULE_S: f64 = 2.0;
 
+/// Horizontal-speed bands of the operating regions the verification is compared on (m/s):
+/// near hover below 3 (the body-axis derivatives' hover region, and about where a rotor's
+/// translational lift sets in), transition up to 7, forward flight beyond.
+const HORIZONTAL_BANDS_MPS: [f64; 2] = [3.0, 7.0];
+/// Vertical speed beyond which a region is a climb or a descent (m/s): about a third of a
+/// miniature helicopter's hover induced velocity `√(T/2ρA)` (≈ 4 m/s for the X-Cell's 8 kg on
+/// a 1.55 m rotor), beyond which the rotor's inflow, hence its thrust per collective and its
+/// torque, differ from hover's, and a descent nears the rotor's own wake.
+const VERTICAL_BAND_MPS: f64 = 1.5;
+/// Share of the verification data an operating region must hold to be named.
+const MIN_REGION_SHARE: f64 = 0.05;
+
+/// The operating region of a sample: (horizontal band 0..=2, vertical band 0 descent, 1
+/// level, 2 climb).
+fn region_of(s: &SensorSample) -> (usize, usize) {
+    let horizontal = s.v_north.hypot(s.v_east);
+    let up = -s.v_down;
+    let h = HORIZONTAL_BANDS_MPS
+        .iter()
+        .filter(|&&b| horizontal >= b)
+        .count();
+    let v = if up < -VERTICAL_BAND_MPS {
+        0
+    } else if up > VERTICAL_BAND_MPS {
+        2
+    } else {
+        1
+    };
+    (h, v)
+}
+
+/// Seconds in each operating region ([`region_of`]) of `samples` at `rate_hz`.
+fn region_seconds<'a>(
+    samples: impl Iterator<Item = &'a SensorSample>,
+    rate_hz: f64,
+) -> [[f64; 3]; 3] {
+    let mut out = [[0.0; 3]; 3];
+    for s in samples {
+        let (h, v) = region_of(s);
+        out[h][v] += 1.0 / rate_hz;
+    }
+    out
+}
+
+/// The operating regions the verification data fly in (at least [`MIN_REGION_SHARE`] of
+/// them and [`MIN_RULE_S`]) that the training data hardly flew (under [`MIN_RULE_S`]): there
+/// every model extrapolates, whatever its rules, so a free run worse than hold may say more
+/// about the training flight than about the model. Regions of horizontal speed
+/// ([`HORIZONTAL_BANDS_MPS`]) and vertical speed ([`VERTICAL_BAND_MPS`]), together: a
+/// helicopter that climbed only in forward flight has not shown how it climbs in hover.
+/// `None` when every region the verification flies was trained on.
+pub fn regime_caveat(
+    training: &[Vec<SensorSample>],
+    verification: &[SensorSample],
+    rate_hz: f64,
+) -> Option<String> {
+    let trained = region_seconds(training.iter().flatten(), rate_hz);
+    let verified = region_seconds(verification.iter(), rate_hz);
+    let total: f64 = verified.iter().flatten().sum();
+    let horizontal = [
+        "under 3 m/s horizontally",
+        "at 3–7 m/s horizontally",
+        "above 7 m/s horizontally",
+    ];
+    let vertical = [
+        "descent faster than 1.5 m/s",
+        "level flight (within ±1.5 m/s vertically)",
+        "climb faster than 1.5 m/s",
+    ];
+    let mut unseen = Vec::new();
+    for h in 0..3 {
+        for v in 0..3 {
+            let held = verified[h][v];
+            if held >= MIN_RULE_S && held >= MIN_REGION_SHARE * total && trained[h][v] < MIN_RULE_S
+            {
+                unseen.push(format!(
+                    "{} {}, {held:.0} s verified and {:.0} s trained",
+                    vertical[v], horizontal[h], trained[h][v]
+                ));
+            }
+        }
+    }
+    (!unseen.is_empty()).then(|| {
+        format!(
+            "the verification data fly where the training data hardly did (every model extrapolates there, and the axes worse than hold may come from it; fly those conditions in the training data too): {}",
+            unseen.join("; ")
+        )
+    })
+}
+
 /// One axis of the chosen model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AxisVerdict {
@@ -158,12 +248,13 @@ fn score(v: &VariantResult, scored: &[usize]) -> Option<f64> {
     Some((log_sum / scored.len() as f64).exp())
 }
 
-/// The verdict on `results` (every variant evaluated, their free runs fed `velocity`), with
-/// caveats from the training data and from the import (`warnings`, printed already, counted
-/// here).
+/// The verdict on `results` (every variant evaluated on `verification`, their free runs fed
+/// `velocity`), with caveats from the training and the verification data and from the import
+/// (`warnings`, printed already, counted here).
 pub fn verdict(
     results: &[VariantResult],
     training: &[Vec<SensorSample>],
+    verification: &[SensorSample],
     rate_hz: f64,
     velocity: FreeRunVelocity,
 ) -> Option<Verdict> {
@@ -258,6 +349,7 @@ pub fn verdict(
             }
         }
     }
+    caveats.extend(regime_caveat(training, verification, rate_hz));
     caveats.extend(observer_caveat(
         &chosen.observer_gain,
         &chosen.one_step_observed,
@@ -569,7 +661,8 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        no_model, observer_caveat, rule_caveats, NoModel, MIN_VERIFICATION_WINDOWS, STILL_STICK_STD,
+        no_model, observer_caveat, regime_caveat, rule_caveats, NoModel, MIN_VERIFICATION_WINDOWS,
+        STILL_STICK_STD,
     };
     use rotorid_sim::plant::SensorSample;
 
@@ -612,6 +705,49 @@ mod tests {
             sideways[0].contains("forward-speed rules at 5 and 10 m/s (its rate models) and its horizontal-speed rules at 0 and 10 m/s (its velocity model) were hardly reached"),
             "{sideways:?}"
         );
+    }
+
+    /// `seconds` of flight at 10 Hz at a horizontal (north) and an up speed (m/s).
+    fn flying(seconds: usize, north: f64, up: f64) -> Vec<SensorSample> {
+        (0..seconds * 10)
+            .map(|k| SensorSample {
+                t: k as f64 / 10.0,
+                v_north: north,
+                v_down: -up,
+                ..SensorSample::default()
+            })
+            .collect()
+    }
+
+    /// Only regions the verification flies for a while and the training hardly flew are
+    /// named, by horizontal and vertical speed together: climbs in forward flight do not
+    /// train a climb in hover.
+    #[test]
+    fn the_regime_caveat_names_what_the_verification_flies_and_the_training_did_not() {
+        let training = [
+            flying(60, 0.0, 0.0),
+            flying(20, 10.0, 3.0),
+            flying(20, 10.0, -3.0),
+        ];
+        // Within the training's regions: nothing to say.
+        let seen = [flying(30, 0.0, 0.5), flying(10, 9.0, 2.0)].concat();
+        assert_eq!(regime_caveat(&training, &seen, 10.0), None);
+        // A climb in hover (20 s) and a moment of descent in hover (1 s, under 2 s): the
+        // climb alone is named, with its seconds.
+        let unseen = [
+            flying(30, 0.0, 0.0),
+            flying(20, 0.5, 2.5),
+            flying(1, 0.0, -2.0),
+        ]
+        .concat();
+        let caveat = regime_caveat(&training, &unseen, 10.0).expect("a caveat");
+        assert!(
+            caveat.contains(
+                "climb faster than 1.5 m/s under 3 m/s horizontally, 20 s verified and 0 s trained"
+            ),
+            "{caveat}"
+        );
+        assert!(!caveat.contains("descent"), "{caveat}");
     }
 
     /// A model is to fly only when it beats hold, a stick moved at all and the held-out part
