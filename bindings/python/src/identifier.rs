@@ -9,7 +9,9 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use rotorid::hover::{flight_sets, Attitude, Controls, GyroCompensation, HoverState};
+use rotorid::hover::{
+    flight_sets, table3, Attitude, Controls, GyroCompensation, HoverState, Scheduling,
+};
 use rotorid::snapshot::KindCode;
 use rotorid::{
     DynIdentifier, ExtendedFuzzyIdentifier, ExtendedLocalIdentifier, ExtendedPlainIdentifier,
@@ -110,6 +112,43 @@ fn state(s: &HoverState<f32>) -> [f32; 6] {
     [a, b, c, q, r, p]
 }
 
+/// One model's premise as `Identifier`'s `premises` give it: the speed its three rules are
+/// on, and their centres and spreads (m/s: left shoulder, Gaussian, right shoulder).
+type ModelPremise = (String, [f32; 3], [f32; 3]);
+
+/// The flight kind with each model's (velocity, q̂, r̂, p̂) rules on the speed and sets
+/// `premises` names (`FlightIdentifier::flight_scheduled`, as the C interface's
+/// `rotorid_init_flight_scheduled`): what `flight selected` chose.
+fn flight_scheduled(premises: &[ModelPremise]) -> PyResult<Any> {
+    let models: &[ModelPremise; 4] = premises.try_into().map_err(|_| {
+        errors::input(format!(
+            "premises: {} models; expected 4 (velocity, q, r, p)",
+            premises.len()
+        ))
+    })?;
+    let on = |name: &str| match name {
+        "speed" => Ok(Scheduling::Speed),
+        "side_speed" => Ok(Scheduling::SideSpeed),
+        "vertical_speed" => Ok(Scheduling::VerticalSpeed),
+        other => Err(errors::input(format!(
+            "premises: speed {:?}; expected \"speed\", \"side_speed\" or \"vertical_speed\"",
+            other.chars().take(40).collect::<String>()
+        ))),
+    };
+    let [a, b, c, d] = models;
+    let schedules = [on(&a.0)?, on(&b.0)?, on(&c.0)?, on(&d.0)?];
+    let sets = models
+        .each_ref()
+        .map(|(_, centre, spread)| table3::shoulder_sets(*centre, *spread));
+    let id = FlightIdentifier::<f32>::flight_scheduled(HoverConfig::default(), sets, schedules)
+        .map_err(|e| errors::core(e, "premises"))?;
+    Ok(Any {
+        name: "flight",
+        code: <FlightIdentifier<f32> as KindCode>::KIND,
+        id: Box::new(id),
+    })
+}
+
 impl Any {
     fn export(&self) -> Option<Vec<u8>> {
         self.id.snapshot_vec(self.code).ok()
@@ -176,8 +215,22 @@ impl Identifier {
     /// A new identifier of `kind` ("flight", "flight_plain", "paper_fuzzy", "paper_plain",
     /// "extended_fuzzy", "extended_plain", "paper_local", "extended_local") with the default
     /// settings (U-D RLS, α = 10⁶, λ = 1, 50 Hz).
+    ///
+    /// `premises` (the flight kind only): per model (velocity, q̂, r̂, p̂) the speed its three
+    /// rules are on ("speed", "side_speed" for a rate model, "vertical_speed") and their
+    /// centres and spreads (m/s), as `rotorid_init_flight_scheduled` takes them.
     #[new]
-    fn new(kind: &str) -> PyResult<Self> {
+    #[pyo3(signature = (kind, premises = None))]
+    fn new(kind: &str, premises: Option<Vec<ModelPremise>>) -> PyResult<Self> {
+        if let Some(premises) = premises {
+            if kind != "flight" {
+                return Err(errors::input(format!(
+                    "premises are the flight kind's, not {:?}'s",
+                    kind.chars().take(40).collect::<String>()
+                )));
+            }
+            return flight_scheduled(&premises).map(|inner| Self { inner });
+        }
         match build(kind) {
             Some(Ok(inner)) => Ok(Self { inner }),
             Some(Err(e)) => Err(errors::core(e, kind)),

@@ -84,6 +84,53 @@ def test_log_frames_step_as_identify_converts_them():
     assert out["prediction"].shape == (len(df), 6)
 
 
+DEFAULT_PREMISES = [("speed", [0.0, 5.0, 10.0], [2.5, 2.5, 2.5])] * 4
+
+
+def test_flight_premises_on_the_default_speed_are_the_flight_default():
+    s = stream()
+    default = rotorid.FlightIdentifier()
+    given = rotorid.Identifier("flight", premises=DEFAULT_PREMISES)
+    also = rotorid.FlightIdentifier(premises=DEFAULT_PREMISES)
+    assert given.kind == "flight" and given.kind_code == default.kind_code
+    outs = [i.step_many(**s)["prediction"] for i in (default, given, also)]
+    assert np.array_equal(outs[0], outs[1]) and np.array_equal(outs[0], outs[2])
+    assert default.export() == given.export() == also.export()
+
+
+def test_flight_premises_move_the_rules_and_bad_ones_raise():
+    s = stream()
+    # The velocity model's rules on the vertical speed, roll's on the side speed: another
+    # model. An export carries θ and P, not the sets: it imports into any flight identifier,
+    # and predicts as learnt only in one built with the same premises.
+    moved = [("vertical_speed", [-1.0, 0.0, 1.0], [0.5, 0.5, 0.5]), DEFAULT_PREMISES[1],
+             DEFAULT_PREMISES[2], ("side_speed", [-2.0, 0.0, 2.0], [1.0, 1.0, 1.0])]
+    a = rotorid.Identifier("flight", premises=moved)
+    b = rotorid.FlightIdentifier()
+    pa = a.step_many(**s)["prediction"]
+    pb = b.step_many(**s)["prediction"]
+    assert np.isfinite(pa).all() and not np.array_equal(pa, pb)
+    same = rotorid.Identifier("flight", premises=moved)
+    other = rotorid.FlightIdentifier()
+    for ident in (same, other):
+        ident.import_(a.export())
+        assert ident.export() == a.export()
+    k = len(s["time_us"]) // 2
+    sample = [s[f][k] for f in ("attitude", "velocity", "rates", "controls")]
+    ps, _ = same.step(int(s["time_us"][k]), *sample)
+    po, _ = other.step(int(s["time_us"][k]), *sample)
+    assert np.isfinite(ps).all() and np.isfinite(po).all() and po != ps
+    with pytest.raises(rotorid.InputError):
+        rotorid.Identifier("flight_plain", premises=DEFAULT_PREMISES)
+    with pytest.raises(rotorid.InputError):
+        rotorid.Identifier("flight", premises=DEFAULT_PREMISES[:3])
+    with pytest.raises(rotorid.InputError):
+        rotorid.Identifier("flight", premises=[("sideways", [0, 5, 10], [2.5] * 3)] * 4)
+    # The velocity model's premise has no side speed.
+    with pytest.raises(rotorid.ConfigError):
+        rotorid.Identifier("flight", premises=[("side_speed", [0, 5, 10], [2.5] * 3)] * 4)
+
+
 def test_bad_input_raises_typed_errors():
     s = stream()
     ident = rotorid.FlightIdentifier()

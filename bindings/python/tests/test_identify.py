@@ -40,6 +40,23 @@ def test_to_json_is_the_cli_metrics_byte_for_byte(rotorid_bin, logs, with_verify
             assert a.read() == b.read(), name
 
 
+def test_flight_selecteds_snapshot_imports_into_the_premises_of_its_params(logs, monkeypatch):
+    monkeypatch.chdir(logs["dir"])
+    rotorid.identify("train.csv", verify="verify.csv", out="out", plots=False)
+    premises = rotorid.flight_premises("out/params-flight-selected.json")
+    with open("out/snapshot-flight-selected.ridx", "rb") as f:
+        snapshot = f.read()
+    chosen = rotorid.Identifier("flight", premises=premises)
+    chosen.import_(snapshot)
+    assert chosen.export() == snapshot
+    # What the selection chose here: some model has one rule (the unscheduled sets' left
+    # shoulder at 10⁵ m/s) or its rules on another speed; so not the flight default's sets.
+    assert premises != [("speed", [0.0, 5.0, 10.0], [2.5, 2.5, 2.5])] * 4
+    # A params file of another structure is not a flight model's premises.
+    with pytest.raises(rotorid.InputError):
+        rotorid.flight_premises("out/params-paper-fuzzy.json")
+
+
 def test_the_commands_options_give_its_bytes(rotorid_bin, logs, monkeypatch):
     monkeypatch.chdir(logs["dir"])
     first = rotorid.identify("train.csv", out="warm", plots=False)

@@ -55,6 +55,7 @@ __all__ = [
     "identify_many",
     "IdentifyResult",
     "Identifier",
+    "flight_premises",
     "FlightIdentifier",
     "FlightPlainIdentifier",
     "PaperFuzzyIdentifier",
@@ -206,6 +207,16 @@ class Identifier(_rotorid.Identifier):
 
     ``step`` takes one sample, ``step_many`` arrays of them (the GIL released), ``export``
     gives the C interface's export bytes, ``import_`` takes them back.
+
+    ``Identifier("flight", premises=...)`` (or ``FlightIdentifier(premises=...)``) puts each
+    model's three rules (velocity, q̂, r̂, p̂) on the speed and sets given, as the C
+    interface's ``rotorid_init_flight_scheduled``: ``(speed, centres, spreads)`` per model,
+    ``speed`` one of ``"speed"``, ``"side_speed"`` (rate models), ``"vertical_speed"``,
+    centres and spreads (m/s) of the left shoulder, Gaussian and right shoulder.
+    ``flight_premises("params-flight-selected.json")`` reads what ``identify`` chose; import
+    its ``snapshot-flight-selected.ridx`` into an identifier built with them to fly that model
+    (a snapshot carries θ and P, not the sets: it imports into any flight identifier, but
+    predicts as learnt only under the premises it was learnt with).
     """
 
     def step_many(
@@ -252,11 +263,48 @@ class Identifier(_rotorid.Identifier):
         }
 
 
+#: The speed each premise variable of a params-*.json model schedules on: the velocity
+#: model's premise is [horizontal speed, up], a rate model's [forward, right, up].
+_SCHEDULES = {
+    "horizontal-speed": ("speed", "vertical_speed"),
+    "heading-velocity": ("speed", "side_speed", "vertical_speed"),
+}
+
+
+def flight_premises(params: Union[str, "os.PathLike[str]"]) -> List[Any]:
+    """The ``premises`` of ``Identifier("flight", premises=...)`` that a flight-structure
+    ``params-*.json`` written by ``identify`` describes (``params-flight-selected.json``: the
+    speed each model's rules are on and their sets; a model with one rule has
+    ``rotorid_flight_sets_unscheduled``'s sets on the speed). Raises ``InputError`` for a
+    file that does not describe three shoulder-Gaussian-shoulder sets on one variable per
+    model."""
+    with open(params, encoding="utf-8") as f:
+        models = json.load(f)
+    out = []
+    names = [m.get("model") for m in models] if isinstance(models, list) else None
+    if names != ["velocity", "q", "r", "p"]:
+        raise InputError(f"{params}: models {names}; expected velocity, q, r, p")
+    for m in models:
+        premise = m.get("premise") or {}
+        schedules = _SCHEDULES.get(premise.get("kind"))
+        variables = premise.get("variables") or []
+        used = [(i, v) for i, v in enumerate(variables) if v]
+        if schedules is None or len(used) != 1 or used[0][0] >= len(schedules):
+            raise InputError(f"{params}: model {m['model']}: premise {premise.get('kind')!r} with sets on "
+                             f"{len(used)} variables; expected a flight model's, on one")
+        i, sets = used[0]
+        if [s.get("shape") for s in sets] != ["left", "gaussian", "right"]:
+            raise InputError(f"{params}: model {m['model']}: sets {[s.get('shape') for s in sets]}; "
+                             "expected left, gaussian, right")
+        out.append((schedules[i], [float(s["centre"]) for s in sets], [float(s["spread"]) for s in sets]))
+    return out
+
+
 def _kind_class(kind: str, doc: str) -> type:
     def __new__(cls: type, *args: Any, **kwargs: Any) -> Any:  # noqa: N807
-        return Identifier.__new__(cls, kind)
+        return Identifier.__new__(cls, kind, *args, **kwargs)
 
-    def __init__(self: Any) -> None:
+    def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
         pass
 
     name = "".join(p.capitalize() for p in kind.split("_")) + "Identifier"
