@@ -563,10 +563,14 @@ pub fn identify_with(
             ));
         }
     }
+    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
+        split.training.iter().map(Vec::as_slice).collect();
+    let derivatives = crate::derivatives::derivatives(&segments, rate_hz);
     let mut verdict = crate::verdict::verdict(
         &results,
         &split.training,
         &split.verification,
+        derivatives.regions.iter().find(|r| r.name == "all"),
         rate_hz,
         args.free_run_velocity,
     );
@@ -585,9 +589,6 @@ pub fn identify_with(
             "No verdict: no candidate model could be scored against hold (each left the sample limits in a free-run window, or a state never moved); see metrics.json, or --full\n",
         ),
     }
-    let segments: Vec<&[rotorid_sim::plant::SensorSample]> =
-        split.training.iter().map(Vec::as_slice).collect();
-    let derivatives = crate::derivatives::derivatives(&segments, rate_hz);
     let text = crate::derivatives::format_derivatives(&derivatives);
     progress.print(&format!("{}\n", text.trim_end()));
     let metrics = Metrics {

@@ -11,6 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::derivatives::Region;
 use crate::experiments::{FreeRunVelocity, TermMask, VariantResult, MODELS};
 use rotorid_sim::plant::SensorSample;
 
@@ -249,12 +250,14 @@ fn score(v: &VariantResult, scored: &[usize]) -> Option<f64> {
 }
 
 /// The verdict on `results` (every variant evaluated on `verification`, their free runs fed
-/// `velocity`), with caveats from the training and the verification data and from the import
-/// (`warnings`, printed already, counted here).
+/// `velocity`), with caveats from the training and the verification data, the training
+/// data's body-axis `derivatives` (their `all` region) and the import (`warnings`, printed
+/// already, counted here).
 pub fn verdict(
     results: &[VariantResult],
     training: &[Vec<SensorSample>],
     verification: &[SensorSample],
+    derivatives: Option<&Region>,
     rate_hz: f64,
     velocity: FreeRunVelocity,
 ) -> Option<Verdict> {
@@ -355,7 +358,7 @@ pub fn verdict(
         &chosen.one_step_observed,
         &chosen.one_step_unit_gain,
     ));
-    caveats.extend(stick_caveats(&stds));
+    caveats.extend(stick_caveats(&stds, derivatives));
     if model == "flight" || model == "flight selected" {
         caveats.extend(rule_caveats(training, rate_hz));
     }
@@ -513,24 +516,49 @@ fn stick_stds(training: &[Vec<SensorSample>]) -> Vec<f64> {
         .collect()
 }
 
-/// Sticks whose standard deviation over the training data (`stds`, from [`stick_stds`]) is
-/// below [`MIN_STICK_STD`].
-fn stick_caveats(stds: &[f64]) -> Vec<String> {
+/// The sticks whose control derivative the training data do not determine. With the
+/// body-axis derivatives of the training data (`fitted`, their `all` region), the
+/// derivative's own standard error decides (`|value| ≥ 2 SE`, `Derivative::determined`):
+/// a stick's deviation alone (`stds`, from [`stick_stds`]) understates a few doublets
+/// between long hovers, and the information grows with the samples too. Where the
+/// derivative was not fitted at all (too few samples, a failed fit), a deviation below
+/// [`MIN_STICK_STD`].
+fn stick_caveats(stds: &[f64], fitted: Option<&Region>) -> Vec<String> {
     let sticks = [
-        ("collective", "vertical (Z_col) and yaw-torque terms"),
-        ("pedal", "yaw control power (N_ped)"),
-        ("longitudinal cyclic", "pitch control power (M_lon)"),
-        ("lateral cyclic", "roll control power (L_lat)"),
+        (
+            "collective",
+            "vertical (Z_col) and yaw-torque terms",
+            "Z_col",
+        ),
+        ("pedal", "yaw control power (N_ped)", "N_ped"),
+        (
+            "longitudinal cyclic",
+            "pitch control power (M_lon)",
+            "M_lon",
+        ),
+        ("lateral cyclic", "roll control power (L_lat)", "L_lat"),
     ];
     sticks
         .iter()
         .zip(stds)
-        .filter(|(_, std)| **std < MIN_STICK_STD)
-        .map(|((name, what), std)| {
-            format!(
-                "the {name} was hardly moved (σ = {:.1} % of travel): {what} not determined; fly a doublet or sweep on it",
-                std * 100.0
-            )
+        .filter_map(|((name, what, symbol), &std)| {
+            let moved = format!("σ = {:.1} % of travel", std * 100.0);
+            let derivative = fitted
+                .and_then(|r| r.derivative(symbol))
+                .filter(|d| d.value.is_some());
+            match derivative {
+                Some(d) if d.determined => None,
+                Some(d) => Some(format!(
+                    "{what} not determined by the log ({symbol} = {:.3} ± {:.3} {}, within two standard errors of zero; the {name} moved {moved}): fly a doublet or sweep on it",
+                    d.value.unwrap_or(f64::NAN),
+                    d.se.unwrap_or(f64::NAN),
+                    d.unit
+                )),
+                None if std < MIN_STICK_STD => Some(format!(
+                    "the {name} was hardly moved ({moved}): {what} not determined; fly a doublet or sweep on it"
+                )),
+                None => None,
+            }
         })
         .collect()
 }
@@ -661,9 +689,10 @@ pub fn format_verdict(v: &Verdict, window_s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::{
-        no_model, observer_caveat, regime_caveat, rule_caveats, NoModel, MIN_VERIFICATION_WINDOWS,
-        STILL_STICK_STD,
+        no_model, observer_caveat, regime_caveat, rule_caveats, stick_caveats, NoModel,
+        MIN_VERIFICATION_WINDOWS, STILL_STICK_STD,
     };
+    use crate::derivatives::{AxisFit, Derivative, Region};
     use rotorid_sim::plant::SensorSample;
 
     /// `seconds` of flight at 10 Hz with the given north and east speeds (m/s), heading north.
@@ -748,6 +777,77 @@ mod tests {
             "{caveat}"
         );
         assert!(!caveat.contains("descent"), "{caveat}");
+    }
+
+    /// A region whose only fitted equation holds `(symbol, value, se)` derivatives.
+    fn region(derivatives: &[(&str, f64, f64)]) -> Region {
+        let derivatives = derivatives
+            .iter()
+            .map(|&(symbol, value, se)| Derivative {
+                symbol: symbol.to_string(),
+                unit: "rad/s² per unit stick".to_string(),
+                value: Some(value),
+                se: Some(se),
+                se_ols: Some(se),
+                determined: value.abs() >= 2.0 * se,
+                note: None,
+            })
+            .collect();
+        Region {
+            name: "all".to_string(),
+            definition: String::new(),
+            samples: 1000,
+            fitted: true,
+            reason: None,
+            excitation: Vec::new(),
+            axes: vec![AxisFit {
+                axis: "p".to_string(),
+                equation: String::new(),
+                samples: 1000,
+                fitted: true,
+                reason: None,
+                derivatives,
+                r_squared: None,
+                residual_rms: None,
+                lags: None,
+            }],
+            rate_axes: Vec::new(),
+        }
+    }
+
+    /// Whether a stick's control derivative is determined is the fit's standard error's to
+    /// say, not the stick's deviation: small doublets can determine it, a larger deviation
+    /// may not. Without a fitted derivative the deviation decides.
+    #[test]
+    fn stick_caveats_follow_the_derivatives_standard_errors() {
+        // Every stick at σ = 0.5 % of travel.
+        let small = [0.005; 4];
+        let fitted = region(&[
+            ("Z_col", -20.0, 1.0),
+            ("L_lat", 8.0, 0.5),
+            ("M_lon", 1.0, 2.0),
+        ]);
+        let caveats = stick_caveats(&small, Some(&fitted));
+        assert_eq!(caveats.len(), 2, "{caveats:?}");
+        // M_lon within two SE of zero: named with its value and SE.
+        assert!(caveats.iter().any(|c| c.starts_with("pitch control power (M_lon) not determined by the log (M_lon = 1.000 ± 2.000 rad/s² per unit stick")), "{caveats:?}");
+        // N_ped not fitted: the deviation decides.
+        assert!(
+            caveats
+                .iter()
+                .any(|c| c.starts_with("the pedal was hardly moved (σ = 0.5 % of travel)")),
+            "{caveats:?}"
+        );
+        // Determined (Z_col, L_lat): nothing, though their sticks moved as little.
+        assert!(
+            !caveats
+                .iter()
+                .any(|c| c.contains("Z_col") || c.contains("L_lat")),
+            "{caveats:?}"
+        );
+        // Without derivatives, a 5 % deviation is enough and 0.5 % is not.
+        assert!(stick_caveats(&[0.05; 4], None).is_empty());
+        assert_eq!(stick_caveats(&small, None).len(), 4);
     }
 
     /// A model is to fly only when it beats hold, a stick moved at all and the held-out part

@@ -91,13 +91,18 @@
 //! consecutive samples. A region that holds every sample reuses the `all` fit.
 //!
 //! **Excitation**: for each stick its standard deviation over the region's samples; "never
-//! excited" when it is below [`NEVER_EXCITED_FRACTION`] (0.02) of full travel, taken as one
-//! stick unit (centre to full deflection; 0 to 1 for the collective). The X-Cell
-//! identification flight's pedal sweep, one quarter of the flight, gives a pedal std of ≈ 0.036
-//! over the whole flight, which determines `N_ped` well; a threshold of 2 % of the −1…1 span
-//! (0.04) would have flagged it. A never-excited stick's column is left out of every fit of
-//! the region (a constant stick is collinear with the intercept) and its derivatives are
-//! reported as not determined, naming the stick.
+//! excited" when it is below [`NEVER_EXCITED_FRACTION`] (0.001) of full travel, taken as one
+//! stick unit (centre to full deflection; 0 to 1 for the collective): the stick did not move.
+//! A never-excited stick's column is left out of every fit of the region (a constant stick is
+//! collinear with the intercept) and its derivatives are reported as not determined, naming
+//! the stick. Any stick that moved is fitted, and whether the log determines its derivative
+//! is the fit's to say (`|value| ≥ 2 SE`), not a threshold on the stick's deviation: the
+//! deviation of a few doublets is diluted by the hover between them (the flybarless 600's
+//! verification flight, doublets and 3-2-1-1 multisteps on every stick: lateral cyclic
+//! σ = 0.8 % of travel, and `L_lat` = 451 ± 10 deg/s² per unit stick, determined), and the
+//! information a fit gets grows with the number of samples as well as with the deviation.
+//! (With a 2 % threshold that flight's `L_lat`, `M_lon` and `N_ped` were reported "never
+//! excited".)
 //!
 //! Written here rather than taken from a crate: no maintained Rust crate does equation-error
 //! identification with the coloured-residual covariance; the linear algebra is nalgebra's.
@@ -122,8 +127,11 @@ pub const FORWARD_MIN_BODY_SPEED_MPS: f64 = 3.0;
 /// A region's axis is fitted only with at least this many samples per parameter.
 pub const SAMPLES_PER_PARAMETER: usize = 20;
 /// A stick whose standard deviation is below this fraction of full travel (one stick unit:
-/// centre to full deflection, or 0 to 1 for the collective) is "never excited".
-pub const NEVER_EXCITED_FRACTION: f64 = 0.02;
+/// centre to full deflection, or 0 to 1 for the collective) is "never excited": one step of a
+/// 1000-step PWM range, the verdict's "did not move at all"
+/// ([`STILL_STICK_STD`](crate::verdict::STILL_STICK_STD)). Above it the stick's column is
+/// fitted and its standard error says whether the log determines its derivative.
+pub const NEVER_EXCITED_FRACTION: f64 = crate::verdict::STILL_STICK_STD;
 /// A derivative is determined when `|value| ≥ DETERMINED_SE_MULTIPLE · SE_corrected`.
 pub const DETERMINED_SE_MULTIPLE: f64 = 2.0;
 /// Residual autocorrelation below which a lag no longer matters (see the module doc).
@@ -244,6 +252,16 @@ pub struct Region {
     pub axes: Vec<AxisFit>,
     /// Roll, pitch, yaw control power and time constant.
     pub rate_axes: Vec<RateAxis>,
+}
+
+impl Region {
+    /// The derivative `symbol` (e.g. `L_lat`) of any of the region's equations.
+    pub fn derivative(&self, symbol: &str) -> Option<&Derivative> {
+        self.axes
+            .iter()
+            .flat_map(|a| a.derivatives.iter())
+            .find(|d| d.symbol == symbol)
+    }
 }
 
 /// Everything [`derivatives`] found.

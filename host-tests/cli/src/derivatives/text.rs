@@ -3,10 +3,7 @@
 use super::{deg_s2, Derivative, Derivatives, RateAxis, Region};
 
 pub(super) fn find<'a>(r: &'a Region, sym: &str) -> Option<&'a Derivative> {
-    r.axes
-        .iter()
-        .flat_map(|a| a.derivatives.iter())
-        .find(|d| d.symbol == sym)
+    r.derivative(sym)
 }
 
 /// `X_u −0.31±0.05*` (value and corrected SE, `*` when determined), `X_u —` when not fitted.
