@@ -123,7 +123,19 @@ static int32_t config_for(uint32_t kind, rotorid_config_t *c) {
 /* A build for one kind (DRIVE_ONLY) calls that kind's own init, so that it links only that
  * kind's code; the full build goes through rotorid_init. */
 static int32_t init_kind(uint32_t kind, const rotorid_config_t *config, rotorid_ident_t **id) {
-#ifdef DRIVE_ONLY_INIT
+#if defined(DRIVE_SCHEDULED)
+    /* The flight kind through rotorid_init_flight_scheduled, every model on the default
+     * speed with the default sets: bit for bit rotorid_init_flight's identifier. */
+    (void)kind;
+    rotorid_flight_sets_t sets[4];
+    uint32_t schedules[4];
+    for (int m = 0; m < 4; m++) {
+        (void)rotorid_flight_sets_default(&sets[m]);
+        schedules[m] = ROTORID_SCHEDULE_SPEED;
+    }
+    return rotorid_init_flight_scheduled(storage, sizeof storage, config, sets, schedules, id,
+                                         &err);
+#elif defined(DRIVE_ONLY_INIT)
     (void)kind;
     return DRIVE_ONLY_INIT(storage, sizeof storage, config, NULL, id, &err);
 #else

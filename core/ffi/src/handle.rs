@@ -248,7 +248,8 @@ pub(crate) unsafe fn prepare<I: Build + 'static>(
 /// | `ROTORID_KIND_EXTENDED_FUZZY` | 27 248 | 26 436 | not measured (see below) |  |
 /// | `ROTORID_KIND_EXTENDED_PLAIN` | 1 240 | 428 | 3 144 | 49 422 |
 /// | `ROTORID_KIND_PAPER_LOCAL` | 3 104 | 1 780 | 5 580 | 55 406 |
-/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 670 |
+/// | `ROTORID_KIND_EXTENDED_LOCAL` | 4 872 | 3 628 | 5 964 | 56 678 |
+/// | `ROTORID_KIND_FLIGHT` through `rotorid_init_flight_scheduled` | 2 984 | 1 900 | 4 708 | 54 734 |
 ///
 /// # Safety
 /// `storage` is NULL or valid for writes of `storage_size` bytes; `config` and `sets` are

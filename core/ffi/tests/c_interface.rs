@@ -673,10 +673,35 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         documented_sizes_hold(&doc, &name.to_uppercase(), stack, text);
         measured.push((kind, stack, text));
     }
+    // The flight kind through `rotorid_init_flight_scheduled` (what a firmware flying
+    // `flight selected` calls), every model on the default speed and sets: the same report
+    // as `rotorid_init_flight`'s, bit for bit, and its own stack and flash.
+    let elf = dir.join("scheduled.elf");
+    let (stack, report) = split(&firmware(
+        "-DDRIVE_ONLY=1 -DDRIVE_ONLY_INIT=rotorid_init_flight -DDRIVE_SCHEDULED",
+        &elf,
+    ));
+    let (_, flight_report) = split(&firmware(
+        "-DDRIVE_ONLY=1 -DDRIVE_ONLY_INIT=rotorid_init_flight",
+        &dir.join("kind1.elf"),
+    ));
+    assert_eq!(report, flight_report);
+    let text = text_of(&elf, false);
+    eprintln!("C firmware, rotorid_init_flight_scheduled only: {stack} bytes, text {text} bytes");
+    let stack: usize = stack
+        .split_whitespace()
+        .nth(1)
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    documented_sizes_hold(&doc, SCHEDULED_ROW, stack, text);
     if std::env::var_os("ROTORID_BLESS").is_some() {
-        write_size_tables(&size_table(&measured));
+        write_size_tables(&size_table(&measured, (stack, text)));
     }
 }
+
+/// The size table's row of the flight kind initialised through
+/// `rotorid_init_flight_scheduled` (after the kinds' rows; the kind cell and what follows it).
+const SCHEDULED_ROW: &str = "FLIGHT` through `rotorid_init_flight_scheduled";
 
 /// The kinds in the size table's order: code, name, what the row adds to the name.
 const KIND_ROWS: [(u32, &str, &str); 8] = [
@@ -715,8 +740,9 @@ fn header_constant(name: &str) -> usize {
 }
 
 /// The size table (markdown, header line included): storage and export from the header's
-/// constants, stack and text as measured (`(kind, stack, text)`).
-fn size_table(measured: &[(u32, usize, usize)]) -> String {
+/// constants, stack and text as measured (`(kind, stack, text)`; `scheduled`: the flight
+/// kind through `rotorid_init_flight_scheduled`, a row of its own).
+fn size_table(measured: &[(u32, usize, usize)], scheduled: (usize, usize)) -> String {
     let mut t = String::from(
         "| kind | storage (B) | export (B) | stack (B) | firmware text (B) |\n|---|---|---|---|---|\n",
     );
@@ -735,6 +761,15 @@ fn size_table(measured: &[(u32, usize, usize)]) -> String {
         )
         .unwrap();
     }
+    writeln!(
+        t,
+        "| `ROTORID_KIND_{SCHEDULED_ROW}` | {} | {} | {} | {} |",
+        grouped(header_constant("ROTORID_FLIGHT_STORAGE_SIZE")),
+        grouped(header_constant("ROTORID_FLIGHT_EXPORT_SIZE")),
+        grouped(scheduled.0),
+        grouped(scheduled.1)
+    )
+    .unwrap();
     t
 }
 
