@@ -313,8 +313,13 @@ pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split
             } else {
                 format!("{len} samples")
             };
+            let rest = if start > 0 && start + len < n {
+                "the rest (the parts before and after it)"
+            } else {
+                "the rest"
+            };
             let how = format!(
-                "held out for verification: {which} of segment {} of {} ({a:.2}–{b:.2} s, {:.0} % of the data){moved}; trained on the rest",
+                "held out for verification: {which} of segment {} of {} ({a:.2}–{b:.2} s, {:.0} % of the data){moved}; trained on {rest}",
                 segments[k].segment,
                 segments[k].file,
                 100.0 * len as f64 / total as f64
@@ -423,6 +428,13 @@ mod tests {
         assert_eq!(usual.verification.len(), 300);
         assert!(usual.how.contains("not the last part"), "{}", usual.how);
         assert!(usual.how.contains("collective"), "{}", usual.how);
+        assert!(
+            usual
+                .how
+                .ends_with("trained on the rest (the parts before and after it)"),
+            "{}",
+            usual.how
+        );
         assert!(least_kept(&usual) >= KEEP_EXCITATION, "{}", usual.how);
         // The parts before and after it, in time order, and nothing lost or doubled.
         assert_eq!(usual.training.len(), 2);
