@@ -657,42 +657,43 @@ fn c_firmware_on_the_cortex_m4f_matches_rotorid_bit_for_bit() {
         (8, "extended_local"),
     ];
     let doc = fs::read_to_string(crate_dir().join("../../docs/c-interface.md")).unwrap();
-    let mut measured = Vec::new();
-    for (kind, name) in inits {
-        let elf = dir.join(format!("kind{kind}.elf"));
-        let only = format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT=rotorid_init_{name}");
-        let (stack, report) = split(&firmware(&only, &elf));
-        assert!(report.contains(&format!("kind {kind} steps")), "{report}");
+    // A firmware built with `defines`, calling `init` only: its report (without the stack
+    // line), stack high-water mark and text.
+    let measure = |defines: &str, init: &str| -> (String, usize, usize) {
+        let elf = dir.join(format!("{init}.elf"));
+        let (stack, report) = split(&firmware(defines, &elf));
         let text = text_of(&elf, false);
-        eprintln!("C firmware, rotorid_init_{name} only: {stack} bytes, text {text} bytes");
+        eprintln!("C firmware, {init} only: {stack} bytes, text {text} bytes");
         let stack: usize = stack
             .split_whitespace()
             .nth(1)
             .and_then(|n| n.parse().ok())
             .unwrap();
+        (report, stack, text)
+    };
+    let mut measured = Vec::new();
+    let mut flight_report = String::new();
+    for (kind, name) in inits {
+        let init = format!("rotorid_init_{name}");
+        let (report, stack, text) = measure(
+            &format!("-DDRIVE_ONLY={kind} -DDRIVE_ONLY_INIT={init}"),
+            &init,
+        );
+        assert!(report.contains(&format!("kind {kind} steps")), "{report}");
         documented_sizes_hold(&doc, &name.to_uppercase(), stack, text);
         measured.push((kind, stack, text));
+        if kind == 1 {
+            flight_report = report;
+        }
     }
     // The flight kind through `rotorid_init_flight_scheduled` (what a firmware flying
     // `flight selected` calls), every model on the default speed and sets: the same report
     // as `rotorid_init_flight`'s, bit for bit, and its own stack and flash.
-    let elf = dir.join("scheduled.elf");
-    let (stack, report) = split(&firmware(
+    let (report, stack, text) = measure(
         "-DDRIVE_ONLY=1 -DDRIVE_ONLY_INIT=rotorid_init_flight -DDRIVE_SCHEDULED",
-        &elf,
-    ));
-    let (_, flight_report) = split(&firmware(
-        "-DDRIVE_ONLY=1 -DDRIVE_ONLY_INIT=rotorid_init_flight",
-        &dir.join("kind1.elf"),
-    ));
+        "rotorid_init_flight_scheduled",
+    );
     assert_eq!(report, flight_report);
-    let text = text_of(&elf, false);
-    eprintln!("C firmware, rotorid_init_flight_scheduled only: {stack} bytes, text {text} bytes");
-    let stack: usize = stack
-        .split_whitespace()
-        .nth(1)
-        .and_then(|n| n.parse().ok())
-        .unwrap();
     documented_sizes_hold(&doc, SCHEDULED_ROW, stack, text);
     if std::env::var_os("ROTORID_BLESS").is_some() {
         write_size_tables(&size_table(&measured, (stack, text)));
