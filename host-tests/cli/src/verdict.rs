@@ -52,8 +52,12 @@ pub fn scored_axes(velocity: FreeRunVelocity) -> &'static [usize] {
     }
 }
 
-/// Stick standard deviation (normalised units) below which a stick counts as hardly moved:
-/// its control power is not determined (a caveat).
+/// Stick standard deviation (normalised units) from which a stick counts as clearly moved:
+/// the built-in hold-out keeps such a stick's excitation in the training data
+/// ([`crate::holdout`]), and where the body-axis derivatives could not be fitted at all, a
+/// stick below it gets the "hardly moved" caveat (with the derivatives, their standard error
+/// decides instead: a few doublets between hovers can determine a control power at a smaller
+/// deviation).
 pub const MIN_STICK_STD: f64 = 0.02;
 
 /// Stick standard deviation (normalised units) below which a stick did not move at all: one
