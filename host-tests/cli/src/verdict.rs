@@ -133,7 +133,7 @@ fn region_seconds<'a>(
 /// ([`HORIZONTAL_BANDS_MPS`]) and vertical speed ([`VERTICAL_BAND_MPS`]), together: a
 /// helicopter that climbed only in forward flight has not shown how it climbs in hover.
 /// `None` when every region the verification flies was trained on.
-pub fn regime_caveat(
+fn regime_caveat(
     training: &[Vec<SensorSample>],
     verification: &[SensorSample],
     rate_hz: f64,
