@@ -25,7 +25,7 @@
 
 use rotorid_sim::plant::SensorSample;
 
-use crate::verdict::MIN_STICK_STD;
+use crate::verdict::{stick_stds, MIN_STICK_STD};
 
 /// Fraction of a moved stick's standard deviation (over all the usable data) that the training
 /// data must keep (see the [module docs](self)). A control derivative's standard error goes
@@ -44,69 +44,19 @@ const STICK_NAMES: [&str; 4] = [
     "lateral cyclic",
 ];
 
-/// Sums of each stick `[col ped lon lat]` and of its square over some samples, and their
-/// count: what the standard deviation of any union or difference of stretches needs.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct StickSums {
-    n: f64,
-    sum: [f64; 4],
-    sum_sq: [f64; 4],
-}
-
-impl StickSums {
-    fn of(samples: &[SensorSample]) -> Self {
-        let mut out = Self::default();
-        for s in samples {
-            let x = [s.sticks.col, s.sticks.ped, s.sticks.lon, s.sticks.lat];
-            out.n += 1.0;
-            for ((sum, sum_sq), x) in out.sum.iter_mut().zip(&mut out.sum_sq).zip(x) {
-                *sum += x;
-                *sum_sq += x * x;
-            }
-        }
-        out
-    }
-
-    /// The sums of both (`sign` 1) or of `self` without `other` (`sign` −1).
-    fn combined(&self, other: &Self, sign: f64) -> Self {
-        Self {
-            n: self.n + sign * other.n,
-            sum: core::array::from_fn(|k| self.sum[k] + sign * other.sum[k]),
-            sum_sq: core::array::from_fn(|k| self.sum_sq[k] + sign * other.sum_sq[k]),
-        }
-    }
-
-    fn minus(&self, other: &Self) -> Self {
-        self.combined(other, -1.0)
-    }
-
-    /// Standard deviation of each stick (population; 0 with fewer than two samples or a
-    /// non-finite stick).
-    fn std(&self) -> [f64; 4] {
-        core::array::from_fn(|k| {
-            if self.n < 2.0 {
-                return 0.0;
-            }
-            let mean = self.sum[k] / self.n;
-            let var = self.sum_sq[k] / self.n - mean * mean;
-            if var.is_finite() && var > 0.0 {
-                var.sqrt()
-            } else {
-                0.0
-            }
-        })
-    }
-}
-
-/// How much of the moved sticks' excitation a hold-out leaves the training data: the least
-/// kept fraction of a moved stick's standard deviation and that stick (`(1, None)` when the
-/// log moves no stick).
-fn kept(all: &StickSums, held: &StickSums) -> (f64, Option<usize>) {
-    let whole = all.std();
-    let training = all.minus(held).std();
-    (0..4)
+/// How much of the moved sticks' excitation training on `training` keeps of `whole`'s (both
+/// every sample of them, [`stick_stds`]): the least kept fraction of a moved stick's
+/// standard deviation and that stick (`(1, None)` when no stick moved).
+fn kept<'a, W, T>(whole: W, training: T) -> (f64, Option<usize>)
+where
+    W: Iterator<Item = &'a SensorSample> + Clone,
+    T: Iterator<Item = &'a SensorSample> + Clone,
+{
+    let whole = stick_stds(whole);
+    let training = stick_stds(training);
+    (0..whole.len())
         .filter(|&k| whole[k] >= MIN_STICK_STD)
-        .map(|k| (training[k] / whole[k], Some(k)))
+        .map(|k| (training.get(k).copied().unwrap_or(0.0) / whole[k], Some(k)))
         .fold((1.0, None), |best, c| if c.0 < best.0 { c } else { best })
 }
 
@@ -170,15 +120,21 @@ enum Held {
 }
 
 impl Held {
-    fn samples<'a>(&self, segments: &'a [Labelled]) -> &'a [SensorSample] {
-        match *self {
-            Held::Whole(k) => &segments[k].samples,
-            Held::Stretch {
-                segment,
-                start,
-                len,
-            } => &segments[segment].samples[start..start + len],
-        }
+    /// The samples of `segments` it leaves to train on, in order.
+    fn training(self, segments: &[Labelled]) -> impl Iterator<Item = &SensorSample> + Clone {
+        segments.iter().enumerate().flat_map(move |(i, s)| {
+            let all = s.samples.as_slice();
+            let (before, after) = match self {
+                Held::Whole(k) if k == i => (&all[..0], &all[..0]),
+                Held::Stretch {
+                    segment,
+                    start,
+                    len,
+                } if segment == i => (&all[..start], &all[start + len..]),
+                _ => (all, &all[..0]),
+            };
+            before.iter().chain(after)
+        })
     }
 }
 
@@ -239,10 +195,8 @@ pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split
         None => stretches().ok_or(too_short)?,
     };
     // The usual choice, unless it takes a moved stick's excitation (module docs).
-    let all = segments.iter().fold(StickSums::default(), |acc, s| {
-        acc.combined(&StickSums::of(&s.samples), 1.0)
-    });
-    let score = |h: &Held| kept(&all, &StickSums::of(h.samples(&segments)));
+    let all = || segments.iter().flat_map(|s| &s.samples);
+    let score = |h: &Held| kept(all(), h.training(&segments));
     let usual = candidates[0];
     let (usual_kept, stick) = score(&usual);
     let mut chosen = (usual, usual_kept);
@@ -410,11 +364,8 @@ mod tests {
 
     /// The least kept fraction of a moved stick's standard deviation in `split`'s training.
     fn least_kept(split: &Split) -> f64 {
-        let mut all: Vec<SensorSample> = split.training.concat();
-        let training = StickSums::of(&all);
-        all.extend_from_slice(&split.verification);
-        let whole = StickSums::of(&all);
-        kept(&whole, &whole.minus(&training)).0
+        let training = || split.training.iter().flatten();
+        kept(training().chain(&split.verification), training()).0
     }
 
     #[test]

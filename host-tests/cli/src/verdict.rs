@@ -294,7 +294,7 @@ pub fn verdict(
         .collect();
     let beats_hold = axes.iter().filter(|a| a.vs_hold < 1.0).count();
     let beats_baseline = axes.iter().filter(|a| a.vs_baseline < 1.0).count();
-    let stds = stick_stds(training);
+    let stds = stick_stds(training.iter().flatten());
     let why_not = no_model(best, &stds, chosen.free_run_windows);
     let fly = why_not.is_none();
     let why = match why_not {
@@ -493,25 +493,26 @@ fn observer_caveat(gain: &[f32; 6], observed: &[f64; 6], unit_gain: &[f64; 6]) -
     })
 }
 
-/// Standard deviation of each stick over the training data (collective, pedal, longitudinal,
-/// lateral; normalised units); empty with fewer than two samples.
-fn stick_stds(training: &[Vec<SensorSample>]) -> Vec<f64> {
+/// Standard deviation of each stick over `samples` (collective, pedal, longitudinal,
+/// lateral; normalised units; two passes: the mean, then the deviations); empty with fewer
+/// than two samples.
+pub(crate) fn stick_stds<'a>(samples: impl Iterator<Item = &'a SensorSample> + Clone) -> Vec<f64> {
     let value = |s: &SensorSample, k: usize| match k {
         0 => s.sticks.col,
         1 => s.sticks.ped,
         2 => s.sticks.lon,
         _ => s.sticks.lat,
     };
-    let samples: Vec<&SensorSample> = training.iter().flatten().collect();
-    if samples.len() < 2 {
+    let count = samples.clone().count();
+    if count < 2 {
         return Vec::new();
     }
-    let n = samples.len() as f64;
+    let n = count as f64;
     (0..4)
         .map(|k| {
-            let mean = samples.iter().map(|s| value(s, k)).sum::<f64>() / n;
+            let mean = samples.clone().map(|s| value(s, k)).sum::<f64>() / n;
             let var = samples
-                .iter()
+                .clone()
                 .map(|s| (value(s, k) - mean).powi(2))
                 .sum::<f64>()
                 / n;
