@@ -25,7 +25,7 @@
 
 use rotorid_sim::plant::SensorSample;
 
-use crate::verdict::{stick_stds, MIN_STICK_STD};
+use crate::verdict::{stick_stds, MIN_STICK_STD, STICK_NAMES};
 
 /// Fraction of a moved stick's standard deviation (over all the usable data) that the training
 /// data must keep (see the [module docs](self)). A control derivative's standard error goes
@@ -36,13 +36,6 @@ pub const KEEP_EXCITATION: f64 = 0.5;
 /// Places tried in the longest segment for a held-out stretch when the usual choice takes a
 /// stick's excitation (see the [module docs](self)): every 5 % of the segment.
 pub const OFFSETS: usize = 20;
-
-const STICK_NAMES: [&str; 4] = [
-    "collective",
-    "pedal",
-    "longitudinal cyclic",
-    "lateral cyclic",
-];
 
 /// How much of the moved sticks' excitation training on `training` keeps of `whole`'s (both
 /// every sample of them, [`stick_stds`]): the least kept fraction of a moved stick's

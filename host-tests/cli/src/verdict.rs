@@ -493,6 +493,14 @@ fn observer_caveat(gain: &[f32; 6], observed: &[f64; 6], unit_gain: &[f64; 6]) -
     })
 }
 
+/// The sticks as the verdict and the hold-out name them, in the order of [`stick_stds`].
+pub(crate) const STICK_NAMES: [&str; 4] = [
+    "collective",
+    "pedal",
+    "longitudinal cyclic",
+    "lateral cyclic",
+];
+
 /// Standard deviation of each stick over `samples` (collective, pedal, longitudinal,
 /// lateral; normalised units; two passes: the mean, then the deviations); empty with fewer
 /// than two samples.
@@ -529,24 +537,17 @@ pub(crate) fn stick_stds<'a>(samples: impl Iterator<Item = &'a SensorSample> + C
 /// derivative was not fitted at all (too few samples, a failed fit), a deviation below
 /// [`MIN_STICK_STD`].
 fn stick_caveats(stds: &[f64], fitted: Option<&Region>) -> Vec<String> {
-    let sticks = [
-        (
-            "collective",
-            "vertical (Z_col) and yaw-torque terms",
-            "Z_col",
-        ),
-        ("pedal", "yaw control power (N_ped)", "N_ped"),
-        (
-            "longitudinal cyclic",
-            "pitch control power (M_lon)",
-            "M_lon",
-        ),
-        ("lateral cyclic", "roll control power (L_lat)", "L_lat"),
+    let derivatives = [
+        ("vertical (Z_col) and yaw-torque terms", "Z_col"),
+        ("yaw control power (N_ped)", "N_ped"),
+        ("pitch control power (M_lon)", "M_lon"),
+        ("roll control power (L_lat)", "L_lat"),
     ];
-    sticks
+    STICK_NAMES
         .iter()
+        .zip(derivatives)
         .zip(stds)
-        .filter_map(|((name, what, symbol), &std)| {
+        .filter_map(|((name, (what, symbol)), &std)| {
             let moved = format!("σ = {:.1} % of travel", std * 100.0);
             let derivative = fitted
                 .and_then(|r| r.derivative(symbol))
