@@ -49,7 +49,10 @@
 //!   docs/term-evidence.md (`scripts/term-evidence.sh`) has each amount over many seed pairs.
 //!
 //! The essential terms stay: thrust slope `α1`, weight `α2` and heave damping `d_u`; each
-//! rate's control gain `γ` and damping `δ`.
+//! rate's control gain `γ` and damping `δ`. The inertia coupling `𝕀` of q̂ and p̂ (Euler's
+//! equations of a rigid body) goes only where its removal leaves fewer free-run windows
+//! diverging: every helicopter has it, but a training flight that keeps the other two rates
+//! small cannot show it, and a flight that does not needs it (docs/term-evidence.md).
 
 use rotorid::hover::{GyroCompensation, HoverSample};
 use rotorid::DynIdentifier;
@@ -78,6 +81,14 @@ const OPTIONAL: [&[usize]; 4] = [
     &[0, 3, 4, 5],
     &[0, 3, 4, 5],
 ];
+
+/// Per model, the optional term that is rigid-body dynamics rather than aerodynamics: the
+/// inertia coupling `𝕀` of q̂ and p̂ (Euler's equations: `(I_zz − I_xx)/I_yy · r p` and
+/// `(I_yy − I_zz)/I_xx · q r`), which every helicopter has. The check blocks of a flight that
+/// keeps the other two rates small cannot tell it from noise, and a flight that does not
+/// needs it, so it is switched off only where its removal leaves fewer free-run windows
+/// diverging (the yaw model's first term, `𝕀 |v|`, is aerodynamic and selected as the rest).
+const RIGID_BODY: [Option<usize>; 4] = [None, Some(0), None, Some(0)];
 
 /// Axes (indices of `[v_x v_y v_z q r p]`) each model predicts.
 const AXES: [&[usize]; 4] = [&[0, 1, 2], &[3], &[4], &[5]];
@@ -364,9 +375,17 @@ fn select(
         loop {
             let mut best: Option<(TermMask, Score)> = None;
             for &t in optional.iter().filter(|&&t| !mask.is_off(m, t)) {
+                // Euler's coupling goes only to stop a diverging window (see `RIGID_BODY`).
+                let rigid = RIGID_BODY[m] == Some(t);
+                if rigid && current.diverged == 0 {
+                    continue;
+                }
                 let candidate = mask.without(m, t);
                 let score = score(candidate, &folds, period_us, window, gyro_noise)?;
                 selection.candidates += 1;
+                if rigid && score.diverged >= current.diverged {
+                    continue;
+                }
                 if best.as_ref().is_none_or(|(_, b)| score.key(m) < b.key(m)) {
                     best = Some((candidate, score));
                 }
