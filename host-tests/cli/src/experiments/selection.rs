@@ -600,6 +600,35 @@ mod tests {
         }
     }
 
+    /// Euler's coupling of q̂ and p̂ stays where no free-run window diverges, whatever the
+    /// check blocks say of it; the other optional terms are still selected on.
+    #[test]
+    fn the_inertia_coupling_stays_unless_it_stops_a_divergence() {
+        let log = rotorid_sim::flights::identification_flight_for(3, 75.0).unwrap();
+        let training = [rotorid_sim::flights::to_hover_samples(&log)];
+        let selection = select_terms(&training, 20_000).unwrap();
+        let window = window_samples(50.0);
+        let block = block_length(75 * 50, 50.0, window).unwrap();
+        let folds: Vec<Split> = (0..FOLDS).map(|f| split(&training, block, f)).collect();
+        let full = score(
+            TermMask::default(),
+            &folds,
+            20_000,
+            window,
+            gyro_noise_of(&training),
+        );
+        assert_eq!(full.unwrap().diverged, 0);
+        for m in [1, 3] {
+            assert_eq!(RIGID_BODY[m], Some(0));
+            assert!(!selection.mask.is_off(m, 0), "{m}: {selection:?}");
+        }
+        let off = (0..4).flat_map(|m| OPTIONAL[m].iter().map(move |&t| (m, t)));
+        assert!(
+            off.filter(|&(m, t)| selection.mask.is_off(m, t)).count() > 0,
+            "{selection:?}"
+        );
+    }
+
     #[test]
     fn too_little_data_keeps_every_term() {
         // 20 s: six blocks of 3.3 s hold one 2 s window each.
