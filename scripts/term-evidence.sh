@@ -173,24 +173,30 @@ lines += [
     ) + ". The less evidence a removal needs, the more of the yaw model's terms the envelope drops, and r falls only once they go, "
     "and the more pairs lose against `flight plain`; no threshold meets both of issue 32's bounds (r ≤ 0.7 and "
     "never more than 3 % worse than `flight plain`).",
-    "- The product's rule removes terms whose removal the check blocks cannot tell from noise. In hover those are "
-    "mostly the coupling and speed terms of q and p (`𝕀`, `κ`): the identification flight's check blocks revisit "
-    "its own small excursions, where those terms do little, and the verification flight, which leaves them, needs "
-    "them. On the envelopes the same rule removes the yaw model's trim, collective and side-speed terms, and that "
-    "removal is what brings r below extended plain's by the margin in the r column; asked for two standard "
-    "errors, the check blocks of one log never show it.",
+    "- The product's rule removes terms whose removal the check blocks cannot tell from noise, except the pitch and "
+    "roll models' inertia coupling (`q: 𝕀`, `p: 𝕀`: Euler's equations of a rigid body), which goes only where its "
+    "removal leaves fewer free-run windows diverging (since 710fb83; at 8512e61 the rule removed it on every hover "
+    "pair of both airframes, and the X-Cell's hover p was 0.99 of extended plain's against `flight plain`'s 0.94). "
+    "In hover the removals are mostly the speed terms of q and p (`κ`) and, on the flybarless 600, their trim `c`: "
+    "the identification flight's check blocks revisit its own small excursions, where those terms do little, and "
+    "the verification flight, which leaves them, needs them. On the envelopes the same rule removes the yaw model's "
+    "trim, collective and side-speed terms, and that removal is what brings r below extended plain's by the margin "
+    "in the r column; asked for two standard errors, the check blocks of one log never show it.",
     "- On the SITL helicopter's SystemID log, a simulator not written here, the flight default's free run leaves the "
     "sample limits; every selection removes the terms whose removal leaves fewer of its check blocks' windows "
     "diverging (such a removal needs no more evidence). Their scores, free run ÷ hold over the held-out 30 %: "
     + "; ".join(f"`{s}` {sitl_scores.get(s, '—')}" for s in SELECTIONS) + ". The plain rule also drops roll terms "
-    "(`p: 𝕀`, `β`, `κ`) whose removal the blocks cannot tell from noise, and its roll free run is the better for it.",
-    "- So the product keeps the plain rule: its losses in hover are caught by the verdict where the held-out data show "
-    "them (it flies `flight` then, docs/seeds.md), while two standard errors, tried as the product's rule over the "
-    "24 plant variations as well (docs/ab-removal-evidence.md), keep the yaw terms whose removal takes the envelope's "
-    "yaw free run below holding the measured rate: the plants whose median envelope r ÷ hold is below 1 fall from 18 "
-    "to 12 of 26, and the verdict's choice's yaw is below hold on 13 plants instead of 19. `select_terms_with` is the "
-    "library call for the conservative rules. Issue 32's bound on the selected model against `flight plain` stays "
-    "unmet in hover.",
+    "whose removal the blocks cannot tell from noise, and its roll free run is the better for it. ArduPilot's SITL "
+    "integrates the body's angular acceleration without Euler's gyroscopic term (`Aircraft::update_dynamics`), so "
+    "there the kept `p: 𝕀` is a term the simulator's physics lacks: at 8512e61, when the plain rule could drop it, "
+    "`flight selected` scored 0.49.",
+    "- So the product keeps the plain rule for every other term: its losses in hover are caught by the verdict where "
+    "the held-out data show them (it flies `flight` then, docs/seeds.md), while two standard errors, tried as the "
+    "product's rule over the 24 plant variations as well (docs/ab-removal-evidence.md), keep the yaw terms whose "
+    "removal takes the envelope's yaw free run below holding the measured rate: the plants whose median envelope "
+    "r ÷ hold is below 1 fall from 18 to 12 of 26, and the verdict's choice's yaw is below hold on 13 plants instead "
+    "of 19. `select_terms_with` is the library call for the conservative rules. Issue 32's bound on the selected "
+    "model against `flight plain` stays unmet on the flybarless 600's hover q.",
 ]
 with open(output, "w") as f:
     f.write("\n".join(lines) + "\n")
