@@ -11,7 +11,7 @@
 # Deterministic: same seeds, same bits.
 #
 # Usage: scripts/seeds.sh [PAIRS [OUTPUT [VARIATIONS]]]   (default 10 pairs, docs/seeds.md, no
-# variations; the document is made with `scripts/seeds.sh 10 docs/seeds.md 12`, 15 min on
+# variations; the document is made with `scripts/seeds.sh 10 docs/seeds.md 12`, 35 min on
 # 2 cores)
 # Env: SEEDS_WORK=DIR keeps the flights and metrics there (default: a temporary directory).
 set -euo pipefail
