@@ -109,6 +109,15 @@ for plant, title in PLANTS:
 HOVER_TOLERANCE, HOVER_UNSEEN, ENVELOPE_TARGET, R_UNSEEN = 1.03, 1.05, 0.7, 0.8
 
 
+def selected(variants):
+    """`flight selected` ÷ `flight plain` per state (issue 32: at most 1.03); None unless both
+    ran."""
+    if "flight selected" not in variants or "flight plain" not in variants:
+        return None
+    run, plain = variants["flight selected"]["free_run"], variants["flight plain"]["free_run"]
+    return [a / b if b > 0 else float("inf") for a, b in zip(run, plain)]
+
+
 def plant_row(plant, variation):
     """Per pair of one plant: the flight default's hover worst state and envelope q, r, p and
     second-best velocity ÷ extended plain's, and the verdict's choice's envelope r ÷ hold."""
@@ -123,12 +132,6 @@ def plant_row(plant, variation):
         ratio = lambda vs, i: vs["flight"]["free_run"][i] / vs["extended plain"]["free_run"][i]
         velocities = sorted(ratio(ev, i) for i in range(3))
         choice = ev.get(CHOICE, ev["flight"])
-        # `flight selected` ÷ `flight plain` per state (issue 32: at most 1.03), where both ran.
-        def selected(vs):
-            if "flight selected" not in vs or "flight plain" not in vs:
-                return None
-            run, plain = vs["flight selected"]["free_run"], vs["flight plain"]["free_run"]
-            return [a / b if b > 0 else float("inf") for a, b in zip(run, plain)]
         rows.append({
             "hover": max(ratio(hv, i) for i in range(6)),
             "q": ratio(ev, 3), "r": ratio(ev, 4), "p": ratio(ev, 5),

@@ -37,15 +37,13 @@ pub const KEEP_EXCITATION: f64 = 0.5;
 /// stick's excitation (see the [module docs](self)): every 5 % of the segment.
 pub const OFFSETS: usize = 20;
 
-/// How much of the moved sticks' excitation training on `training` keeps of `whole`'s (both
-/// every sample of them, [`stick_stds`]): the least kept fraction of a moved stick's
-/// standard deviation and that stick (`(1, None)` when no stick moved).
-fn kept<'a, W, T>(whole: W, training: T) -> (f64, Option<usize>)
-where
-    W: Iterator<Item = &'a SensorSample> + Clone,
-    T: Iterator<Item = &'a SensorSample> + Clone,
-{
-    let whole = stick_stds(whole);
+/// How much of the moved sticks' excitation training on `training` keeps of the whole
+/// log's (`whole`: [`stick_stds`] of every sample): the least kept fraction of a moved
+/// stick's standard deviation and that stick (`(1, None)` when no stick moved).
+fn kept<'a>(
+    whole: &[f64],
+    training: impl Iterator<Item = &'a SensorSample> + Clone,
+) -> (f64, Option<usize>) {
     let training = stick_stds(training);
     (0..whole.len())
         .filter(|&k| whole[k] >= MIN_STICK_STD)
@@ -188,8 +186,8 @@ pub fn split(segments: Vec<Labelled>, fraction: f64, min: usize) -> Result<Split
         None => stretches().ok_or(too_short)?,
     };
     // The usual choice, unless it takes a moved stick's excitation (module docs).
-    let all = || segments.iter().flat_map(|s| &s.samples);
-    let score = |h: &Held| kept(all(), h.training(&segments));
+    let log_stds = stick_stds(segments.iter().flat_map(|s| &s.samples));
+    let score = |h: &Held| kept(&log_stds, h.training(&segments));
     let usual = candidates[0];
     let (usual_kept, stick) = score(&usual);
     let mut chosen = (usual, usual_kept);
@@ -358,7 +356,11 @@ mod tests {
     /// The least kept fraction of a moved stick's standard deviation in `split`'s training.
     fn least_kept(split: &Split) -> f64 {
         let training = || split.training.iter().flatten();
-        kept(training().chain(&split.verification), training()).0
+        kept(
+            &stick_stds(training().chain(&split.verification)),
+            training(),
+        )
+        .0
     }
 
     #[test]

@@ -2,10 +2,6 @@
 
 use super::{deg_s2, Derivative, Derivatives, RateAxis, Region};
 
-pub(super) fn find<'a>(r: &'a Region, sym: &str) -> Option<&'a Derivative> {
-    r.derivative(sym)
-}
-
 /// `X_u −0.31±0.05*` (value and corrected SE, `*` when determined), `X_u —` when not fitted.
 pub(super) fn short(d: Option<&Derivative>, sym: &str) -> String {
     match d.and_then(|d| d.value.zip(d.se).map(|v| (v, d.determined))) {
@@ -44,11 +40,12 @@ fn off_axis_text(r: &Region) -> Option<String> {
     let parts: Vec<String> = [("M_lat", "M_lon"), ("L_lon", "L_lat")]
         .iter()
         .filter_map(|&(cross, own)| {
-            let d = find(r, cross).filter(|d| d.determined)?;
+            let d = r.derivative(cross).filter(|d| d.determined)?;
             let (v, se) = d.value.zip(d.se)?;
             // Only beside a determined control power of the axis' own: without it the stick
             // that drives the axis was hardly moved, and the off-axis one took its place.
-            let o = find(r, own)
+            let o = r
+                .derivative(own)
                 .filter(|o| o.determined)
                 .and_then(|o| o.value)
                 .filter(|o| *o != 0.0)?;
@@ -111,7 +108,7 @@ pub fn format_derivatives(d: &Derivatives) -> String {
         lines.extend(off_axis_text(r));
         let mut trans: Vec<String> = ["X_u", "Y_v", "Z_w", "Z_col"]
             .iter()
-            .map(|s| short(find(r, s), s))
+            .map(|s| short(r.derivative(s), s))
             .collect();
         trans[0].insert_str(0, "    ");
         let idle: Vec<&str> = r
