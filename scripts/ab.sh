@@ -10,7 +10,9 @@
 #   (defaults 10 pairs, 12 variations, `flight selected`, stdout; about 45 min on 2 cores with
 #   the defaults)
 # Env: SEEDS_WORK=DIR keeps the flights and both identifications there (a kept DIR is
-# reused: its flights and identifications are not made again).
+# reused: its flights and identifications are not made again). AB_BASE_TARGET: the target
+# directory BASE is built in (default target/ab-base; scripts/ab-patch.sh keeps it outside
+# its temporary tree).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -31,8 +33,9 @@ base_rev=$(git rev-parse --short "$base")
 tree=$(mktemp -d)
 trap 'git worktree remove --force "$tree"; [ -n "${SEEDS_WORK:-}" ] || rm -rf "$work"' EXIT
 git worktree add -q --detach "$tree" "$base_rev"
-(cd "$tree" && CARGO_TARGET_DIR="$root/target/ab-base" cargo build -q --release -p rotorid-cli --bin rotorid)
-base_bin="$root/target/ab-base/release/rotorid"
+base_target="${AB_BASE_TARGET:-$root/target/ab-base}"
+(cd "$tree" && CARGO_TARGET_DIR="$base_target" cargo build -q --release -p rotorid-cli --bin rotorid)
+base_bin="$base_target/release/rotorid"
 start=$(date +%s)
 fly_pairs "$work" "$pairs" "$variations"
 # identify_base DIR: BASE's identifications of the pair in DIR (kept when already there).
