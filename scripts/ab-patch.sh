@@ -5,7 +5,8 @@
 #   * over the seed pairs and plant variations of scripts/seeds.sh (scripts/ab.sh), every state
 #     against holding the measured state (scripts/ab_hold.py: a change may move the linear
 #     baseline too), and
-#   * on the real logs of scripts/real-logs.sh (scripts/ab_real_logs.py).
+#   * on the real logs of scripts/real-logs.sh and ArduPilot's SITL helicopter of
+#     scripts/ardupilot-sitl.sh (scripts/ab_real_logs.py).
 # Nothing of the current tree changes; the report goes to OUTPUT (markdown).
 #
 # Usage: scripts/ab-patch.sh PATCH [PAIRS [VARIATIONS [OUTPUT]]]
@@ -38,9 +39,10 @@ export SEEDS_WORK
 (cd "$tree" && CARGO_TARGET_DIR="$patched" AB_BASE_TARGET="$target/ab-base" \
   scripts/ab.sh HEAD "$pairs" "$variations" "flight selected" "$logs_work/ab.md")
 
-# The real logs, as scripts/real-logs.sh runs them, with both binaries.
+# The real logs and ArduPilot's SITL helicopter, as scripts/real-logs.sh and
+# scripts/ardupilot-sitl.sh run them, with both binaries.
 logs=(host-tests/cli/data/logs/real/*.ulg host-tests/cli/data/logs/esc_status_log.ulg
-      host-tests/cli/data/logs/real/*.bin)
+      host-tests/cli/data/logs/real/*.bin host-tests/cli/data/logs/ardupilot-sitl/*.bin)
 names=()
 for log in "${logs[@]}"; do
   name=$(basename "$log")
@@ -64,7 +66,7 @@ seconds=$(($(date +%s) - start))
   # Its preamble, without the title, the comment marks and the blank lines around it.
   sed -n '2,/^diff --git/p' "$patch" | sed '$d; s/^# \{0,1\}//' | sed '/./,$!d' | sed -e :a -e '/^\n*$/{$d;N;ba' -e '}'
   echo
-  echo "## Real logs"
+  echo "## Real logs and ArduPilot's SITL helicopter (\`heli-*.bin\`)"
   echo
   python3 scripts/ab_real_logs.py "$logs_work/base" "$logs_work/head" "${names[@]}"
   echo
