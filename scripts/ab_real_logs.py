@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Prints (markdown) a change's effect on the real logs of scripts/real-logs.sh: per log, the
-flight default's and `flight selected`'s 2 s free-run error ÷ holding the measured state on each
-axis, and the verdict's model to fly, identified by the base revision (`BASE/NAME/`) and by the
-changed tree (`HEAD/NAME/`), each `rotorid identify LOG --out DIR` with the default hold-out.
+"""Prints (markdown) a change's effect on the real logs of scripts/real-logs.sh and the SITL
+helicopter's of scripts/ardupilot-sitl.sh: per log, the flight default's and `flight
+selected`'s 2 s free-run error ÷ holding the measured state on each axis, and the verdict's
+model to fly, identified by the base revision (`BASE/NAME/`) and by the changed tree
+(`HEAD/NAME/`), each `rotorid identify LOG --out DIR` with the default hold-out.
 
 Usage: ab_real_logs.py BASE HEAD NAME...
 """
@@ -45,7 +46,7 @@ def fmt(b, h):
 
 print("Free run ÷ holding the measured state on the held-out part (paper axes: `v_x` east, "
       "`v_y` up, `v_z` south; below 1: the model beats hold), `base → changed` where they "
-      "differ. A log neither run identifies is left out.")
+      "differ. A log that either run could not identify is left out.")
 print()
 print("| log | model | " + " | ".join(STATES) + " | q and p at most hold | model to fly |")
 print("|---|---|" + "---:|" * len(STATES) + "---|---|")
