@@ -9,10 +9,11 @@ more than 3 % either way.
 
 Usage: ab_hold.py WORK VARIANT... (WORK: scripts/ab.sh's SEEDS_WORK)
 """
-import json
 import pathlib
 import statistics
 import sys
+
+from ab_lib import cell, to_hold, variants as load
 
 work, variants = pathlib.Path(sys.argv[1]), sys.argv[2:]
 STATES = ["v_x", "v_y", "v_z", "q", "r", "p"]
@@ -20,17 +21,6 @@ FAMILIES = [("xcell60", "X-Cell 60"), ("flybarless600", "flybarless 600")]
 REGIMES = [("hover", "hover (identification flight, 300 s verification)"),
            ("envelope", "envelope")]
 TOLERANCE = 0.03
-
-
-def to_hold(path, variant):
-    """VARIANT's free run ÷ hold per state at PATH's metrics.json, or None."""
-    if not path.exists():
-        return None
-    v = {x["name"]: x for x in json.loads(path.read_text())["variants"]}
-    if variant not in v:
-        return None
-    m = v[variant]
-    return [f / h if h > 0 else float("nan") for f, h in zip(m["free_run"], m["hold_free_run"])]
 
 
 def pairs_by_plant(family, regime, variant):
@@ -41,16 +31,11 @@ def pairs_by_plant(family, regime, variant):
             continue
         parts = directory.name.split("-")
         plant = parts[1] if len(parts) == 3 else "airframe"
-        b = to_hold(directory / f"{regime}-base" / "metrics.json", variant)
-        h = to_hold(directory / regime / "metrics.json", variant)
+        b = to_hold(load(directory / f"{regime}-base" / "metrics.json"), variant)
+        h = to_hold(load(directory / regime / "metrics.json"), variant)
         if b is not None and h is not None:
             plants.setdefault(plant, []).append((b, h))
     return plants
-
-
-def fmt(b, h):
-    b, h = f"{b:.2f}", f"{h:.2f}"
-    return b if b == h else f"{b} → {h}"
 
 
 print("Free run ÷ holding the measured state (below 1: the model beats hold). Per state: the "
@@ -78,7 +63,7 @@ for family, title in FAMILIES:
                          max(h[i] for runs in plants.values() for _, h in runs))
                 mb = statistics.median(b for b, _ in medians)
                 mh = statistics.median(h for _, h in medians)
-                cells.append(f"{fmt(mb, mh)} / {fmt(*worst)}")
+                cells.append(f"{cell(mb, mh)} / {cell(*worst)}")
                 up = sum(h < b * (1 - TOLERANCE) for b, h in medians)
                 down = sum(h > b * (1 + TOLERANCE) for b, h in medians)
                 if up:

@@ -14,6 +14,8 @@ import pathlib
 import statistics
 import sys
 
+from ab_lib import cell
+
 work, variant = pathlib.Path(sys.argv[1]), sys.argv[2]
 STATES = ["v_x", "v_y", "v_z", "q", "r", "p"]
 
@@ -33,11 +35,6 @@ def plant_of(name):
     parts = name.split("-")
     label = f"variation {parts[1][1:]}" if len(parts) == 3 else "the airframe"
     return parts[0], label
-
-
-def cell(b, h):
-    b, h = f"{b:.2f}", f"{h:.2f}"
-    return b if b == h else f"{b} → {h}"
 
 
 moved, pairs = {}, {}

@@ -16,7 +16,9 @@ bin="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 runs=()
-for log in host-tests/cli/data/logs/ardupilot-sitl/*.bin; do
+# shellcheck source=scripts/lib/logs.sh
+. scripts/lib/logs.sh
+for log in "${SITL_LOGS[@]}"; do
   name=$(basename "$log")
   out="$work/$name"
   mkdir -p "$out"

@@ -11,10 +11,10 @@ cargo build -q --release -p rotorid-cli
 bin="${CARGO_TARGET_DIR:-$PWD/target}/release/rotorid"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-logs=(host-tests/cli/data/logs/real/*.ulg host-tests/cli/data/logs/esc_status_log.ulg
-      host-tests/cli/data/logs/real/*.bin host-tests/cli/data/logs/real/*.px4log)
+# shellcheck source=scripts/lib/logs.sh
+. scripts/lib/logs.sh
 runs=()
-for log in "${logs[@]}"; do
+for log in "${REAL_LOGS[@]}"; do
   name=$(basename "$log")
   out="$work/$name"
   mkdir -p "$out"
